@@ -1,0 +1,18 @@
+# Lookup of the system packages (Debian 12). Everything the renderer links against
+# goes through the interface target nori_ext.
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(pugixml REQUIRED)
+find_package(TBB REQUIRED)
+find_package(fmt REQUIRED)
+find_package(tinyexr REQUIRED)
+find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)
+find_package(Threads REQUIRED)
+
+# stb's implementation is compiled once, here, with our own flags.
+add_library(nori_stb STATIC ${CMAKE_CURRENT_LIST_DIR}/stb_impl.cpp)
+target_include_directories(nori_stb SYSTEM PUBLIC ${STB_INCLUDE_DIR})
+target_compile_options(nori_stb PRIVATE -w)
+
+add_library(nori_ext INTERFACE)
+target_link_libraries(nori_ext INTERFACE Eigen3::Eigen pugixml::pugixml TBB::tbb fmt::fmt
+                      tinyexr::tinyexr nori_stb Threads::Threads)

@@ -1,0 +1,32 @@
+// An RGB image of floats, with EXR (linear) and PNG (sRGB, 8 bit) input and output.
+#pragma once
+
+#include <nori/color.h>
+
+#include <Eigen/Core>
+
+namespace nori {
+
+class Bitmap : public Eigen::Array<Color3f, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> {
+public:
+    using Base = Eigen::Array<Color3f, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+    Bitmap() = default;
+    /// A black image of the given size (x = width, y = height).
+    explicit Bitmap(const Eigen::Vector2i &size) : Base(size.y(), size.x()) {
+        setConstant(Color3f(0.0f));
+    }
+
+    int width() const { return static_cast<int>(cols()); }
+    int height() const { return static_cast<int>(rows()); }
+
+    /// Loads an EXR, PNG, JPEG or HDR file (by extension). 8-bit formats are taken as
+    /// sRGB and converted to linear. Throws NoriException naming the file on failure.
+    static Bitmap load(const std::string &filename);
+    /// Writes all channels as 32-bit float linear RGB.
+    void saveEXR(const std::string &filename) const;
+    /// Writes 8-bit sRGB, clamping to [0, 1].
+    void savePNG(const std::string &filename) const;
+};
+
+} // namespace nori

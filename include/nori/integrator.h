@@ -1,0 +1,25 @@
+// Integrators estimate the radiance arriving along a camera ray.
+#pragma once
+
+#include <nori/color.h>
+#include <nori/object.h>
+#include <nori/ray.h>
+
+namespace nori {
+
+class Scene;
+class Sampler;
+
+class Integrator : public NoriObject {
+public:
+    static constexpr EClassType kClassType = EIntegrator;
+
+    /// Called once before rendering, after the scene is activated.
+    virtual void preprocess(const Scene *scene) { (void)scene; }
+    /// The radiance arriving at ray.o from direction -ray.d.
+    virtual Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const = 0;
+
+    EClassType getClassType() const override { return kClassType; }
+};
+
+} // namespace nori

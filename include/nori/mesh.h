@@ -1,0 +1,46 @@
+// Triangle meshes: vertex arrays and faces, with the per-triangle intersection code.
+// Loaders (plugins/shapes/obj.cpp) fill the arrays and call finishLoading().
+#pragma once
+
+#include <nori/shape.h>
+#include <nori/transform.h>
+
+#include <vector>
+
+namespace nori {
+
+class Mesh : public Shape {
+public:
+    uint32_t getPrimitiveCount() const override { return static_cast<uint32_t>(m_faces.size()); }
+    BoundingBox3f getPrimitiveBoundingBox(uint32_t index) const override;
+    Point3f getPrimitiveCentroid(uint32_t index) const override;
+    /// Möller–Trumbore ray–triangle test; hitCoords are the barycentrics (u, v) of
+    /// vertices 1 and 2 ("Fast, Minimum Storage Ray/Triangle Intersection", 1997).
+    bool rayIntersect(uint32_t index, const Ray3f &ray, float &t,
+                      Point2f &hitCoords) const override;
+    void setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
+                           Intersection &its) const override;
+
+    float surfaceArea(uint32_t index) const;
+
+    const std::vector<Point3f> &getVertexPositions() const { return m_positions; }
+    const std::vector<Normal3f> &getVertexNormals() const { return m_normals; }
+    const std::vector<Point2f> &getVertexTexCoords() const { return m_texCoords; }
+    const std::vector<Vector3i> &getFaces() const { return m_faces; }
+    const std::string &getName() const { return m_name; }
+
+    std::string toString() const override;
+
+protected:
+    /// Applies toWorld to the vertex data and computes the bounding box. Normals and
+    /// texture coordinates are optional (empty) but, when present, one per vertex.
+    void finishLoading(const Transform &toWorld);
+
+    std::string m_name;               ///< e.g. the file name, for messages
+    std::vector<Point3f> m_positions; ///< vertex positions
+    std::vector<Normal3f> m_normals;  ///< per-vertex normals, or empty
+    std::vector<Point2f> m_texCoords; ///< per-vertex uvs, or empty
+    std::vector<Vector3i> m_faces;    ///< vertex indices of each triangle
+};
+
+} // namespace nori

@@ -1,0 +1,89 @@
+// The object model: every plugin is a NoriObject, created by name through the
+// NoriObjectFactory from a PropertyList, then given its children and activated.
+#pragma once
+
+#include <nori/proplist.h>
+
+#include <functional>
+#include <memory>
+
+namespace nori {
+
+class NoriObject {
+public:
+    enum EClassType {
+        EScene = 0,
+        EMesh,
+        EBSDF,
+        EPhaseFunction,
+        EEmitter,
+        EMedium,
+        ETexture,
+        ECamera,
+        EIntegrator,
+        ESampler,
+        ETest,
+        EReconstructionFilter,
+        EClassTypeCount
+    };
+
+    virtual ~NoriObject() = default;
+
+    virtual EClassType getClassType() const = 0;
+    /// Attaches a child object. `name` is the child's `name=` attribute in the XML (how
+    /// a child binds to a slot, e.g. a texture named "albedo"), or empty. The default
+    /// accepts nothing; a parent throws a NoriException naming what it cannot take.
+    virtual void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name);
+    /// Called on a child when it is attached to its parent.
+    virtual void setParent(NoriObject *parent) { (void)parent; }
+    /// Called once all children are attached: compute derived data, check completeness.
+    virtual void activate() {}
+    virtual std::string toString() const = 0;
+
+    /// The XML tag of a class type ("bsdf", "rfilter", ...).
+    static std::string classTypeName(EClassType type);
+    /// The class type of an XML tag, or EClassTypeCount when the tag is not an object.
+    static EClassType classTypeFromName(const std::string &tag);
+};
+
+/// Registry from plugin name to constructor.
+class NoriObjectFactory {
+public:
+    using Constructor = std::function<std::shared_ptr<NoriObject>(const PropertyList &)>;
+
+    struct Entry {
+        NoriObject::EClassType type;
+        Constructor constructor;
+    };
+
+    /// Registers a plugin; throws NoriException when the name is already taken.
+    static void registerClass(const std::string &name, NoriObject::EClassType type,
+                              Constructor constructor);
+    /// As registerClass, for static initialisation (where throwing would abort): a
+    /// duplicate is remembered and reported by checkRegistry().
+    static bool registerStatic(const std::string &name, NoriObject::EClassType type,
+                               Constructor constructor) noexcept;
+    /// Throws NoriException listing the names that were registered twice at start-up.
+    static void checkRegistry();
+
+    /// Constructs a plugin of the expected kind. Throws for unknown names (with a
+    /// "did you mean"), for a plugin of another kind, and for unread properties.
+    static std::shared_ptr<NoriObject> createInstance(const std::string &name,
+                                                      NoriObject::EClassType expectedType,
+                                                      const PropertyList &props);
+    /// Every registered plugin, sorted by kind then name.
+    static std::vector<std::pair<NoriObject::EClassType, std::string>> registeredClasses();
+    static bool isRegistered(const std::string &name);
+    static void unregisterClass(const std::string &name);
+};
+
+/// Registers `cls` under `name`. The class must derive from a base class that defines
+/// `static constexpr EClassType kClassType` (every base class in include/nori does).
+#define NORI_REGISTER_CLASS(cls, name)                                                             \
+    static const bool cls##_registered = ::nori::NoriObjectFactory::registerStatic(                \
+        name, cls::kClassType,                                                                     \
+        [](const ::nori::PropertyList &props) -> std::shared_ptr<::nori::NoriObject> {             \
+            return std::make_shared<cls>(props);                                                   \
+        });
+
+} // namespace nori

@@ -1,0 +1,26 @@
+// A ray segment o + t·d, t in [mint, maxt], with the reciprocal direction cached.
+#pragma once
+
+#include <nori/vector.h>
+
+namespace nori {
+
+struct Ray3f {
+    Point3f o;
+    Vector3f d;
+    Vector3f dRcp;
+    float mint = kEpsilon;
+    float maxt = kInfinity;
+
+    Ray3f() = default;
+    Ray3f(const Point3f &o, const Vector3f &d, float mint = kEpsilon, float maxt = kInfinity)
+        : o(o), d(d), mint(mint), maxt(maxt) {
+        update();
+    }
+
+    /// Recomputes the cached reciprocal direction after d changes.
+    void update() { dRcp = d.cwiseInverse(); }
+    Point3f operator()(float t) const { return o + t * d; }
+};
+
+} // namespace nori

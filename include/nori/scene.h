@@ -1,0 +1,49 @@
+// The root object of a render: shapes, integrator, camera and sampler.
+#pragma once
+
+#include <nori/accel.h>
+#include <nori/camera.h>
+#include <nori/integrator.h>
+#include <nori/sampler.h>
+
+namespace nori {
+
+class Scene : public NoriObject {
+public:
+    static constexpr EClassType kClassType = EScene;
+
+    explicit Scene(const PropertyList &props);
+
+    const Integrator *getIntegrator() const { return m_integrator.get(); }
+    Integrator *getIntegrator() { return m_integrator.get(); }
+    const Camera *getCamera() const { return m_camera.get(); }
+    const Sampler *getSampler() const { return m_sampler.get(); }
+    const std::vector<std::shared_ptr<Shape>> &getShapes() const { return m_shapes; }
+    const BoundingBox3f &getBoundingBox() const { return m_accel.getBoundingBox(); }
+
+    /// Closest intersection along the ray's segment.
+    bool rayIntersect(const Ray3f &ray, Intersection &its) const {
+        return m_accel.rayIntersect(ray, its, false);
+    }
+    /// Whether anything blocks the ray's segment (a shadow ray).
+    bool rayIntersect(const Ray3f &ray) const {
+        Intersection its;
+        return m_accel.rayIntersect(ray, its, true);
+    }
+
+    void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
+    /// Builds the acceleration structure, adds a default sampler, checks completeness.
+    void activate() override;
+    std::string toString() const override;
+
+    EClassType getClassType() const override { return kClassType; }
+
+private:
+    std::vector<std::shared_ptr<Shape>> m_shapes;
+    std::shared_ptr<Integrator> m_integrator;
+    std::shared_ptr<Camera> m_camera;
+    std::shared_ptr<Sampler> m_sampler;
+    Accel m_accel;
+};
+
+} // namespace nori

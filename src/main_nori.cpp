@@ -1,0 +1,203 @@
+// The `nori` program: renders a scene file to EXR + PNG, or runs a test file.
+#include <nori/parser.h>
+#include <nori/progress.h>
+#include <nori/render.h>
+#include <nori/scene.h>
+#include <nori/strutil.h>
+#include <nori/test.h>
+
+#include <csignal>
+#include <filesystem>
+#include <iostream>
+#include <signal.h>
+
+namespace fs = std::filesystem;
+using namespace nori;
+
+namespace {
+
+/// Exit status after SIGINT, as a shell reports a process killed by it.
+constexpr int kExitInterrupted = 128 + SIGINT;
+
+std::atomic<bool> g_interrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT flag must be signal-safe");
+
+extern "C" void onInterrupt(int) {
+    g_interrupted.store(true);
+}
+
+const char *kUsage = R"(Usage: nori [options] <file.xml>
+
+Renders a scene file to <file>.exr (linear) and <file>.png (sRGB) next to it, or runs a
+test file (root element <test>) and exits 0 when it passes, 1 when it fails.
+
+Options:
+  -D name=value      define $name for the XML file (wins over <default>); repeatable
+  -o, --output FILE  write FILE.exr and FILE.png instead (an .exr/.png suffix is dropped)
+  -t, --threads N    number of worker threads (default: all cores)
+  --spp N            samples per pixel, overriding the scene's sampler
+  --no-progress      no progress bar
+  --list-plugins     print every registered plugin by kind and exit
+  -h, --help         this text
+
+On Ctrl-C the blocks finished so far are written to <file>_partial.exr/.png and nori
+exits with status 130.
+)";
+
+struct Options {
+    std::string sceneFile;
+    std::string output;
+    Defines defines;
+    int threads = 0;
+    size_t samplesPerPixel = 0;
+    bool showProgress = true;
+    bool listPlugins = false;
+    bool help = false;
+};
+
+int parsePositive(const std::string &text, const std::string &flag) {
+    int value = toInt(text, flag);
+    if (value <= 0)
+        throw NoriException("{} must be a positive integer, got '{}'", flag, text);
+    return value;
+}
+
+Options parseCommandLine(int argc, char **argv) {
+    Options options;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&](const std::string &flag) -> std::string {
+            if (i + 1 >= argc)
+                throw NoriException("option {} needs a value", flag);
+            return argv[++i];
+        };
+        if (arg == "-h" || arg == "--help") {
+            options.help = true;
+        } else if (arg == "--list-plugins") {
+            options.listPlugins = true;
+        } else if (arg == "--no-progress") {
+            options.showProgress = false;
+        } else if (arg == "-o" || arg == "--output") {
+            options.output = value(arg);
+        } else if (arg == "-t" || arg == "--threads") {
+            options.threads = parsePositive(value(arg), arg);
+        } else if (arg == "--spp") {
+            options.samplesPerPixel = static_cast<size_t>(parsePositive(value(arg), arg));
+        } else if (arg.rfind("-D", 0) == 0) {
+            const std::string definition = arg.size() > 2 ? arg.substr(2) : value(arg);
+            const size_t equals = definition.find('=');
+            if (equals == std::string::npos || equals == 0)
+                throw NoriException("-D expects name=value, got '{}'", definition);
+            options.defines[definition.substr(0, equals)] = definition.substr(equals + 1);
+        } else if (!arg.empty() && arg[0] == '-') {
+            throw NoriException("unknown option '{}' (see nori --help)", arg);
+        } else if (options.sceneFile.empty()) {
+            options.sceneFile = arg;
+        } else {
+            throw NoriException("more than one input file given ('{}' and '{}')", options.sceneFile,
+                                arg);
+        }
+    }
+    return options;
+}
+
+void listPlugins() {
+    NoriObject::EClassType current = NoriObject::EClassTypeCount;
+    for (const auto &[type, name] : NoriObjectFactory::registeredClasses()) {
+        if (type != current) {
+            current = type;
+            fmt::print("{}{}:\n", type == NoriObject::EScene ? "" : "\n",
+                       NoriObject::classTypeName(type));
+        }
+        fmt::print("  {}\n", name);
+    }
+}
+
+/// The output path without extension: -o's argument, or the scene file's path.
+std::string outputStem(const Options &options) {
+    fs::path path(options.output.empty() ? options.sceneFile : options.output);
+    const std::string extension = toLower(path.extension().string());
+    if (options.output.empty() || extension == ".exr" || extension == ".png")
+        path.replace_extension();
+    return path.string();
+}
+
+int renderToFiles(Scene &scene, const Options &options) {
+    const Vector2i size = scene.getCamera()->getOutputSize();
+    RenderOptions renderOptions;
+    renderOptions.threads = options.threads > 0 ? options.threads : defaultThreadCount();
+    renderOptions.samplesPerPixel = options.samplesPerPixel;
+    renderOptions.showProgress = options.showProgress;
+    renderOptions.cancel = &g_interrupted;
+    fmt::print(stderr, "Rendering {} ({}x{}, {} spp, {} threads)\n", options.sceneFile, size.x(),
+               size.y(),
+               options.samplesPerPixel > 0 ? options.samplesPerPixel
+                                           : scene.getSampler()->getSampleCount(),
+               renderOptions.threads);
+
+    RenderResult result = renderScene(scene, renderOptions);
+
+    const std::string stem = outputStem(options) + (result.complete ? "" : "_partial");
+    result.image.saveEXR(stem + ".exr");
+    result.image.savePNG(stem + ".png");
+
+    if (result.invalidSamples > 0)
+        fmt::print(stderr,
+                   "Warning: {} of {} samples had NaN, infinite or negative radiance and were "
+                   "not splatted\n",
+                   result.invalidSamples, result.samplesTaken);
+    if (!result.complete) {
+        fmt::print(stderr,
+                   "Interrupted: wrote the {} of {} blocks finished so far (the rest is black) "
+                   "to {}.exr and {}.png\n",
+                   result.blocksDone, result.blocksTotal, stem, stem);
+        return kExitInterrupted;
+    }
+    fmt::print(stderr, "Done in {} ({:.2f} M samples/s); wrote {}.exr and {}.png\n",
+               formatDuration(result.seconds),
+               static_cast<double>(result.samplesTaken) / result.seconds * 1e-6, stem, stem);
+    return 0;
+}
+
+int run(int argc, char **argv) {
+    NoriObjectFactory::checkRegistry();
+    Options options = parseCommandLine(argc, argv);
+    if (options.help) {
+        fmt::print("{}", kUsage);
+        return 0;
+    }
+    if (options.listPlugins) {
+        listPlugins();
+        return 0;
+    }
+    if (options.sceneFile.empty()) {
+        fmt::print(stderr, "{}", kUsage);
+        return 1;
+    }
+
+    std::shared_ptr<NoriObject> root = loadFromXML(options.sceneFile, options.defines);
+    if (auto test = std::dynamic_pointer_cast<Test>(root))
+        return test->run() ? 0 : 1;
+    if (auto scene = std::dynamic_pointer_cast<Scene>(root)) {
+        struct sigaction action {};
+        action.sa_handler = onInterrupt;
+        sigemptyset(&action.sa_mask);
+        // A second Ctrl-C kills the process the usual way.
+        action.sa_flags = SA_RESETHAND;
+        sigaction(SIGINT, &action, nullptr);
+        return renderToFiles(*scene, options);
+    }
+    throw NoriException("{}: the root element must be a <scene> or a <test>, not a {}",
+                        options.sceneFile, NoriObject::classTypeName(root->getClassType()));
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+    try {
+        return run(argc, argv);
+    } catch (const std::exception &error) {
+        fmt::print(stderr, "Error: {}\n", error.what());
+        return 1;
+    }
+}

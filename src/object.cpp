@@ -1,0 +1,115 @@
+#include <nori/object.h>
+#include <nori/strutil.h>
+
+#include <map>
+
+namespace nori {
+
+namespace {
+
+const char *kClassTypeNames[NoriObject::EClassTypeCount] = {
+    "scene",   "mesh",   "bsdf",       "phase",   "emitter", "medium",
+    "texture", "camera", "integrator", "sampler", "test",    "rfilter"};
+
+std::map<std::string, NoriObjectFactory::Entry> &registry() {
+    static std::map<std::string, NoriObjectFactory::Entry> entries;
+    return entries;
+}
+
+std::vector<std::string> &duplicateRegistrations() {
+    static std::vector<std::string> duplicates;
+    return duplicates;
+}
+
+} // namespace
+
+void NoriObject::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
+    (void)name;
+    throw NoriException("a {} does not accept a {} as a child", classTypeName(getClassType()),
+                        classTypeName(child->getClassType()));
+}
+
+std::string NoriObject::classTypeName(EClassType type) {
+    if (type < 0 || type >= EClassTypeCount)
+        return "<unknown>";
+    return kClassTypeNames[type];
+}
+
+NoriObject::EClassType NoriObject::classTypeFromName(const std::string &tag) {
+    for (int i = 0; i < EClassTypeCount; ++i)
+        if (tag == kClassTypeNames[i])
+            return static_cast<EClassType>(i);
+    return EClassTypeCount;
+}
+
+void NoriObjectFactory::registerClass(const std::string &name, NoriObject::EClassType type,
+                                      Constructor constructor) {
+    auto [it, inserted] = registry().emplace(name, Entry{type, std::move(constructor)});
+    if (!inserted)
+        throw NoriException("plugin name '{}' is registered twice (as a {} and as a {})", name,
+                            NoriObject::classTypeName(it->second.type),
+                            NoriObject::classTypeName(type));
+}
+
+bool NoriObjectFactory::registerStatic(const std::string &name, NoriObject::EClassType type,
+                                       Constructor constructor) noexcept {
+    try {
+        registerClass(name, type, std::move(constructor));
+        return true;
+    } catch (const std::exception &error) {
+        try {
+            duplicateRegistrations().push_back(error.what());
+        } catch (...) {
+        }
+        return false;
+    }
+}
+
+void NoriObjectFactory::checkRegistry() {
+    const auto &duplicates = duplicateRegistrations();
+    if (!duplicates.empty())
+        throw NoriException("{}", fmt::join(duplicates, "; "));
+}
+
+std::shared_ptr<NoriObject> NoriObjectFactory::createInstance(const std::string &name,
+                                                              NoriObject::EClassType expectedType,
+                                                              const PropertyList &props) {
+    auto it = registry().find(name);
+    if (it == registry().end()) {
+        std::vector<std::string> sameKind;
+        for (const auto &[candidate, entry] : registry())
+            if (entry.type == expectedType)
+                sameKind.push_back(candidate);
+        std::string hint = didYouMean(name, sameKind);
+        if (hint.empty() && !sameKind.empty())
+            hint = fmt::format(" (known {} plugins: {})", NoriObject::classTypeName(expectedType),
+                               fmt::join(sameKind, ", "));
+        throw NoriException("unknown {} plugin '{}'{}", NoriObject::classTypeName(expectedType),
+                            name, hint);
+    }
+    if (it->second.type != expectedType)
+        throw NoriException("plugin '{}' is a {}, not a {}", name,
+                            NoriObject::classTypeName(it->second.type),
+                            NoriObject::classTypeName(expectedType));
+    std::shared_ptr<NoriObject> object = it->second.constructor(props);
+    props.checkAllRead(fmt::format("{} '{}'", NoriObject::classTypeName(expectedType), name));
+    return object;
+}
+
+std::vector<std::pair<NoriObject::EClassType, std::string>> NoriObjectFactory::registeredClasses() {
+    std::vector<std::pair<NoriObject::EClassType, std::string>> classes;
+    for (const auto &[name, entry] : registry())
+        classes.emplace_back(entry.type, name);
+    std::sort(classes.begin(), classes.end());
+    return classes;
+}
+
+bool NoriObjectFactory::isRegistered(const std::string &name) {
+    return registry().count(name) != 0;
+}
+
+void NoriObjectFactory::unregisterClass(const std::string &name) {
+    registry().erase(name);
+}
+
+} // namespace nori

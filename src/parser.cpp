@@ -1,0 +1,496 @@
+#include <nori/parser.h>
+#include <nori/strutil.h>
+
+#include <pugixml.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <list>
+#include <set>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace nori {
+
+namespace {
+
+/// One XML file (or string) with what is needed to turn offsets into line:column.
+struct SourceFile {
+    std::string name;
+    std::string directory;
+    std::string text;
+    std::vector<size_t> lineStarts;
+
+    SourceFile(std::string name, std::string directory, std::string text)
+        : name(std::move(name)), directory(std::move(directory)), text(std::move(text)) {
+        lineStarts.push_back(0);
+        for (size_t i = 0; i < this->text.size(); ++i)
+            if (this->text[i] == '\n')
+                lineStarts.push_back(i + 1);
+    }
+
+    std::string location(ptrdiff_t offset) const {
+        size_t position = static_cast<size_t>(std::max<ptrdiff_t>(offset, 0));
+        auto line = std::upper_bound(lineStarts.begin(), lineStarts.end(), position) - 1;
+        return fmt::format("{}:{}:{}", name, line - lineStarts.begin() + 1, position - *line + 1);
+    }
+};
+
+/// A child object waiting to be attached to its parent.
+struct Child {
+    std::shared_ptr<NoriObject> object;
+    std::string name;
+    std::string location;
+};
+
+/// What an object element collects from its content before the object is created.
+struct ObjectFrame {
+    PropertyList props;
+    std::vector<Child> children;
+};
+
+enum class TagKind { Object, Ref, Include, Default, Property, Transform, TransformOp };
+
+struct TagInfo {
+    TagKind kind;
+    std::vector<std::string> attributes; ///< allowed attributes
+    std::vector<std::string> required;   ///< of which these must be present
+};
+
+const std::map<std::string, TagInfo> &tagTable() {
+    static const std::map<std::string, TagInfo> table = [] {
+        std::map<std::string, TagInfo> t;
+        for (int i = 0; i < NoriObject::EClassTypeCount; ++i) {
+            auto type = static_cast<NoriObject::EClassType>(i);
+            t[NoriObject::classTypeName(type)] = {TagKind::Object,
+                                                  {"type", "id", "name"},
+                                                  type == NoriObject::EScene
+                                                      ? std::vector<std::string>{}
+                                                      : std::vector<std::string>{"type"}};
+        }
+        t["ref"] = {TagKind::Ref, {"id", "name"}, {"id"}};
+        t["include"] = {TagKind::Include, {"filename"}, {"filename"}};
+        t["default"] = {TagKind::Default, {"name", "value"}, {"name", "value"}};
+        for (const char *property :
+             {"boolean", "integer", "float", "string", "color", "point", "vector"})
+            t[property] = {TagKind::Property, {"name", "value"}, {"name", "value"}};
+        t["transform"] = {TagKind::Transform, {"name"}, {"name"}};
+        t["translate"] = {TagKind::TransformOp, {"value"}, {"value"}};
+        t["scale"] = {TagKind::TransformOp, {"value"}, {"value"}};
+        t["matrix"] = {TagKind::TransformOp, {"value"}, {"value"}};
+        t["rotate"] = {TagKind::TransformOp, {"axis", "angle"}, {"axis", "angle"}};
+        t["lookat"] = {TagKind::TransformOp, {"origin", "target", "up"}, {"origin", "target"}};
+        return t;
+    }();
+    return table;
+}
+
+std::vector<std::string> keysOf(const std::map<std::string, TagInfo> &table) {
+    std::vector<std::string> keys;
+    for (const auto &entry : table)
+        keys.push_back(entry.first);
+    return keys;
+}
+
+/// Runs f, turning a NoriException without a location into one at `location`.
+template <typename F> auto atLocation(const std::string &location, F &&f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const LocatedError &) {
+        throw;
+    } catch (const NoriException &error) {
+        throw LocatedError(location, error.what());
+    }
+}
+
+/// Parses "x,y,z" (commas and/or spaces) with an allowed set of component counts.
+std::vector<float> parseNumbers(const std::string &text, const std::string &what,
+                                std::initializer_list<size_t> counts) {
+    std::vector<float> values = toFloatList(text, what);
+    for (size_t count : counts)
+        if (values.size() == count)
+            return values;
+    std::vector<std::string> allowed;
+    for (size_t count : counts)
+        allowed.push_back(std::to_string(count));
+    throw NoriException("{} '{}' has {} components, expected {}", what, text, values.size(),
+                        fmt::join(allowed, " or "));
+}
+
+Vector3f parseVector3(const std::string &text, const std::string &what) {
+    std::vector<float> v = parseNumbers(text, what, {3});
+    return Vector3f(v[0], v[1], v[2]);
+}
+
+class Parser {
+public:
+    explicit Parser(const Defines &defines) : m_defines(defines) {}
+
+    std::shared_ptr<NoriObject> parseFile(const std::string &filename) {
+        const SourceFile &file = loadFile(filename);
+        pugi::xml_document document;
+        pugi::xml_node root = parseDocument(file, document);
+        m_includeStack.push_back(canonicalName(filename));
+        Child result;
+        parseElement(file, root, nullptr, nullptr, &result);
+        m_includeStack.pop_back();
+        return result.object;
+    }
+
+    std::shared_ptr<NoriObject> parseString(const std::string &xml, const std::string &directory) {
+        m_files.emplace_back("<string>", directory, xml);
+        pugi::xml_document document;
+        pugi::xml_node root = parseDocument(m_files.back(), document);
+        Child result;
+        parseElement(m_files.back(), root, nullptr, nullptr, &result);
+        return result.object;
+    }
+
+private:
+    static std::string canonicalName(const std::string &filename) {
+        std::error_code error;
+        fs::path canonical = fs::weakly_canonical(filename, error);
+        return error ? filename : canonical.string();
+    }
+
+    const SourceFile &loadFile(const std::string &filename) {
+        if (!fs::is_regular_file(filename))
+            throw NoriException("cannot open XML file '{}': no such file", filename);
+        std::ifstream stream(filename, std::ios::binary);
+        std::ostringstream buffer;
+        buffer << stream.rdbuf();
+        if (!stream)
+            throw NoriException("cannot read XML file '{}'", filename);
+        std::string directory = fs::path(filename).parent_path().string();
+        m_files.emplace_back(filename, directory.empty() ? "." : directory, buffer.str());
+        return m_files.back();
+    }
+
+    /// Parses the XML syntax and returns the single root element.
+    static pugi::xml_node parseDocument(const SourceFile &file, pugi::xml_document &document) {
+        pugi::xml_parse_result result =
+            document.load_buffer(file.text.data(), file.text.size(), pugi::parse_default);
+        if (!result)
+            throw LocatedError(file.location(result.offset),
+                               fmt::format("XML syntax error: {}", result.description()));
+        pugi::xml_node root = document.document_element();
+        if (!root)
+            throw LocatedError(file.location(0), "the file has no root element");
+        return root;
+    }
+
+    /// Replaces every $name in an attribute value by its definition.
+    std::string substitute(const std::string &value, const std::string &location) const {
+        std::string result;
+        for (size_t i = 0; i < value.size(); ++i) {
+            if (value[i] != '$') {
+                result += value[i];
+                continue;
+            }
+            size_t end = i + 1;
+            while (end < value.size() &&
+                   (std::isalnum(static_cast<unsigned char>(value[end])) || value[end] == '_'))
+                ++end;
+            std::string name = value.substr(i + 1, end - i - 1);
+            if (name.empty())
+                throw LocatedError(location,
+                                   fmt::format("'$' without a variable name in '{}'", value));
+            auto it = m_defines.find(name);
+            if (it == m_defines.end()) {
+                std::vector<std::string> known;
+                for (const auto &define : m_defines)
+                    known.push_back(define.first);
+                throw LocatedError(
+                    location, fmt::format("variable '${}' is not defined (use <default name=\"{}\" "
+                                          "value=\"...\"/> or -D {}=...){}",
+                                          name, name, name, didYouMean(name, known)));
+            }
+            result += it->second;
+            i = end - 1;
+        }
+        return result;
+    }
+
+    /// Checks the element's attributes against the tag's list and substitutes $names.
+    std::map<std::string, std::string>
+    readAttributes(const SourceFile &file, const pugi::xml_node &node, const TagInfo &info) const {
+        std::map<std::string, std::string> attributes;
+        for (const pugi::xml_attribute &attribute : node.attributes()) {
+            const std::string name = attribute.name();
+            const std::string location = file.location(node.offset_debug());
+            if (std::find(info.attributes.begin(), info.attributes.end(), name) ==
+                info.attributes.end())
+                throw LocatedError(location,
+                                   fmt::format("unexpected attribute '{}' in <{}>{}", name,
+                                               node.name(), didYouMean(name, info.attributes)));
+            attributes[name] = substitute(attribute.value(), location);
+        }
+        for (const std::string &name : info.required)
+            if (!attributes.count(name))
+                throw LocatedError(
+                    file.location(node.offset_debug()),
+                    fmt::format("<{}> is missing the attribute '{}'", node.name(), name));
+        return attributes;
+    }
+
+    /// Parses the content of `node` into `frame` (objects and properties) or into
+    /// `transform` (transform operations); text content is an error.
+    void parseChildren(const SourceFile &file, const pugi::xml_node &node, ObjectFrame *frame,
+                       Transform *transform) {
+        for (const pugi::xml_node &child : node.children()) {
+            if (child.type() == pugi::node_element) {
+                parseElement(file, child, frame, transform, nullptr);
+            } else if (child.type() == pugi::node_pcdata || child.type() == pugi::node_cdata) {
+                if (!tokenize(child.value()).empty())
+                    throw LocatedError(file.location(child.offset_debug()),
+                                       fmt::format("unexpected text '{}' inside <{}>",
+                                                   child.value(), node.name()));
+            }
+        }
+    }
+
+    /// Parses one element. Objects go to frame->children (or *root for the root element),
+    /// properties to frame->props, transform operations to *transform.
+    void parseElement(const SourceFile &file, const pugi::xml_node &node, ObjectFrame *frame,
+                      Transform *transform, Child *root) {
+        const std::string tag = node.name();
+        const std::string location = file.location(node.offset_debug());
+        auto tagIt = tagTable().find(tag);
+        if (tagIt == tagTable().end())
+            throw LocatedError(location, fmt::format("unknown tag <{}>{}", tag,
+                                                     didYouMean(tag, keysOf(tagTable()))));
+        const TagInfo &info = tagIt->second;
+
+        // Where each kind of element may stand.
+        const bool insideTransform = transform != nullptr;
+        const bool insideObject = frame != nullptr;
+        if (info.kind == TagKind::TransformOp && !insideTransform)
+            throw LocatedError(location,
+                               fmt::format("<{}> may only appear inside a <transform>", tag));
+        if (info.kind != TagKind::TransformOp && insideTransform)
+            throw LocatedError(location,
+                               fmt::format("<{}> may not appear inside a <transform>", tag));
+        if (!insideObject && !insideTransform && info.kind != TagKind::Object)
+            throw LocatedError(location, fmt::format("the root element must be an object such as "
+                                                     "<scene> or <test>, not <{}>",
+                                                     tag));
+
+        std::map<std::string, std::string> attributes = readAttributes(file, node, info);
+        switch (info.kind) {
+        case TagKind::Object:
+            parseObject(file, node, attributes, frame, root);
+            break;
+        case TagKind::Ref:
+            parseRef(location, attributes, *frame);
+            break;
+        case TagKind::Include:
+            parseInclude(file, location, attributes, *frame);
+            break;
+        case TagKind::Default:
+            // A value given on the command line (or an earlier <default>) wins.
+            m_defines.emplace(attributes["name"], attributes["value"]);
+            break;
+        case TagKind::Property:
+            atLocation(location, [&] {
+                frame->props.set(attributes["name"],
+                                 parsePropertyValue(tag, attributes["name"], attributes["value"]),
+                                 location, file.directory);
+            });
+            break;
+        case TagKind::Transform: {
+            Transform accumulated;
+            parseChildren(file, node, nullptr, &accumulated);
+            atLocation(location,
+                       [&] { frame->props.set(attributes["name"], accumulated, location); });
+            break;
+        }
+        case TagKind::TransformOp:
+            // Operations apply in the order written: each one is multiplied from the left.
+            *transform = atLocation(location, [&] { return parseTransformOp(tag, attributes); }) *
+                         *transform;
+            break;
+        }
+        if (info.kind != TagKind::Object && info.kind != TagKind::Transform)
+            checkEmpty(file, node);
+    }
+
+    /// Leaf elements (properties, refs, ...) have no content.
+    static void checkEmpty(const SourceFile &file, const pugi::xml_node &node) {
+        for (const pugi::xml_node &child : node.children())
+            if (child.type() == pugi::node_element ||
+                ((child.type() == pugi::node_pcdata || child.type() == pugi::node_cdata) &&
+                 !tokenize(child.value()).empty()))
+                throw LocatedError(file.location(child.offset_debug()),
+                                   fmt::format("<{}> takes no content", node.name()));
+    }
+
+    void parseObject(const SourceFile &file, const pugi::xml_node &node,
+                     std::map<std::string, std::string> &attributes, ObjectFrame *parent,
+                     Child *root) {
+        const std::string tag = node.name();
+        const std::string location = file.location(node.offset_debug());
+        const NoriObject::EClassType classType = NoriObject::classTypeFromName(tag);
+        const std::string type = attributes.count("type") ? attributes["type"] : tag;
+
+        ObjectFrame frame;
+        parseChildren(file, node, &frame, nullptr);
+
+        const std::string description = fmt::format("<{} type=\"{}\">", tag, type);
+        std::shared_ptr<NoriObject> object = atLocation(location, [&] {
+            try {
+                return NoriObjectFactory::createInstance(type, classType, frame.props);
+            } catch (const LocatedError &) {
+                throw;
+            } catch (const NoriException &error) {
+                throw NoriException("{}: {}", description, error.what());
+            }
+        });
+        for (const Child &child : frame.children) {
+            atLocation(child.location, [&] {
+                try {
+                    object->addChild(child.object, child.name);
+                    child.object->setParent(object.get());
+                } catch (const NoriException &error) {
+                    throw NoriException("{} (declared at {}): {}", description, location,
+                                        error.what());
+                }
+            });
+        }
+        atLocation(location, [&] {
+            try {
+                object->activate();
+            } catch (const NoriException &error) {
+                throw NoriException("{}: {}", description, error.what());
+            }
+        });
+
+        if (attributes.count("id")) {
+            const std::string &id = attributes["id"];
+            auto [it, inserted] = m_ids.emplace(id, std::make_pair(object, location));
+            if (!inserted)
+                throw LocatedError(
+                    location, fmt::format("id '{}' is already used at {}", id, it->second.second));
+        }
+        Child result{object, attributes.count("name") ? attributes["name"] : "", location};
+        if (parent)
+            parent->children.push_back(result);
+        else
+            *root = result;
+    }
+
+    void parseRef(const std::string &location, std::map<std::string, std::string> &attributes,
+                  ObjectFrame &frame) {
+        auto it = m_ids.find(attributes["id"]);
+        if (it == m_ids.end()) {
+            std::vector<std::string> known;
+            for (const auto &entry : m_ids)
+                known.push_back(entry.first);
+            throw LocatedError(location,
+                               fmt::format("<ref> to unknown id '{}' (an object must be declared "
+                                           "before it is referenced){}",
+                                           attributes["id"], didYouMean(attributes["id"], known)));
+        }
+        frame.children.push_back({it->second.first, attributes["name"], location});
+    }
+
+    /// Parses another file's <scene> content as if it stood in place of the <include>.
+    void parseInclude(const SourceFile &file, const std::string &location,
+                      std::map<std::string, std::string> &attributes, ObjectFrame &frame) {
+        fs::path path(attributes["filename"]);
+        if (path.is_relative())
+            path = fs::path(file.directory) / path;
+        const std::string filename = path.lexically_normal().string();
+        const std::string canonical = canonicalName(filename);
+        if (std::find(m_includeStack.begin(), m_includeStack.end(), canonical) !=
+            m_includeStack.end())
+            throw LocatedError(location, fmt::format("<include> of '{}' forms a cycle", filename));
+        const SourceFile &included =
+            atLocation(location, [&]() -> const SourceFile & { return loadFile(filename); });
+        pugi::xml_document document;
+        pugi::xml_node root = parseDocument(included, document);
+        if (std::string(root.name()) != "scene")
+            throw LocatedError(
+                included.location(root.offset_debug()),
+                fmt::format("an included file must have a <scene> root, not <{}>", root.name()));
+        if (root.first_attribute())
+            throw LocatedError(included.location(root.offset_debug()),
+                               "the <scene> root of an included file takes no attributes");
+        m_includeStack.push_back(canonical);
+        parseChildren(included, root, &frame, nullptr);
+        m_includeStack.pop_back();
+    }
+
+    static PropertyList::Value parsePropertyValue(const std::string &tag, const std::string &name,
+                                                  const std::string &value) {
+        const std::string what = fmt::format("<{} name=\"{}\"> value", tag, name);
+        if (tag == "boolean") {
+            std::string lower = toLower(value);
+            if (lower == "true")
+                return true;
+            if (lower == "false")
+                return false;
+            throw NoriException("{} '{}' is neither 'true' nor 'false'", what, value);
+        }
+        if (tag == "integer")
+            return toInt(value, what);
+        if (tag == "float")
+            return toFloat(value, what);
+        if (tag == "string")
+            return value;
+        if (tag == "color") {
+            // A single number is a grey (scalar shorthand).
+            std::vector<float> v = parseNumbers(value, what, {1, 3});
+            return v.size() == 1 ? Color3f(v[0]) : Color3f(v[0], v[1], v[2]);
+        }
+        std::vector<float> v = parseNumbers(value, what, {2, 3});
+        if (tag == "point")
+            return v.size() == 2 ? PropertyList::Value(Point2f(v[0], v[1]))
+                                 : PropertyList::Value(Point3f(v[0], v[1], v[2]));
+        return v.size() == 2 ? PropertyList::Value(Vector2f(v[0], v[1]))
+                             : PropertyList::Value(Vector3f(v[0], v[1], v[2]));
+    }
+
+    static Transform parseTransformOp(const std::string &tag,
+                                      std::map<std::string, std::string> &attributes) {
+        if (tag == "translate")
+            return Transform::translate(parseVector3(attributes["value"], "<translate> value"));
+        if (tag == "scale") {
+            std::vector<float> v = parseNumbers(attributes["value"], "<scale> value", {1, 3});
+            return Transform::scale(v.size() == 1 ? Vector3f(v[0]) : Vector3f(v[0], v[1], v[2]));
+        }
+        if (tag == "rotate")
+            return Transform::rotate(parseVector3(attributes["axis"], "<rotate> axis"),
+                                     toFloat(attributes["angle"], "<rotate> angle"));
+        if (tag == "matrix") {
+            std::vector<float> v = parseNumbers(attributes["value"], "<matrix> value", {16});
+            // Row-major, as written in the file.
+            Eigen::Matrix4f matrix =
+                Eigen::Map<Eigen::Matrix<float, 4, 4, Eigen::RowMajor>>(v.data());
+            return Transform(matrix);
+        }
+        // lookat
+        Vector3f up = attributes.count("up") ? parseVector3(attributes["up"], "<lookat> up")
+                                             : Vector3f(0.0f, 1.0f, 0.0f);
+        return Transform::lookAt(parseVector3(attributes["origin"], "<lookat> origin"),
+                                 parseVector3(attributes["target"], "<lookat> target"), up);
+    }
+
+    Defines m_defines;
+    std::map<std::string, std::pair<std::shared_ptr<NoriObject>, std::string>> m_ids;
+    std::vector<std::string> m_includeStack;
+    std::list<SourceFile> m_files; ///< kept alive: locations refer to them
+};
+
+} // namespace
+
+std::shared_ptr<NoriObject> loadFromXML(const std::string &filename, const Defines &defines) {
+    return Parser(defines).parseFile(filename);
+}
+
+std::shared_ptr<NoriObject> loadFromXMLString(const std::string &xml, const std::string &directory,
+                                              const Defines &defines) {
+    return Parser(defines).parseString(xml, directory);
+}
+
+} // namespace nori

@@ -1,0 +1,72 @@
+#include <nori/transform.h>
+
+#include <Eigen/LU>
+#include <sstream>
+
+namespace nori {
+
+Transform::Transform(const Eigen::Matrix4f &matrix) : m_transform(matrix) {
+    Eigen::FullPivLU<Eigen::Matrix4f> lu(matrix);
+    if (!lu.isInvertible()) {
+        std::ostringstream out;
+        out << matrix.format(Eigen::IOFormat(4, 0, ", ", "; ", "", "", "[", "]"));
+        throw NoriException("transform matrix {} is singular", out.str());
+    }
+    m_inverse = lu.inverse();
+}
+
+Transform Transform::translate(const Vector3f &offset) {
+    Eigen::Matrix4f matrix = Eigen::Matrix4f::Identity();
+    matrix.topRightCorner<3, 1>() = offset;
+    Eigen::Matrix4f inverse = Eigen::Matrix4f::Identity();
+    inverse.topRightCorner<3, 1>() = -offset;
+    return Transform(matrix, inverse);
+}
+
+Transform Transform::scale(const Vector3f &factors) {
+    if ((factors.array() == 0.0f).any())
+        throw NoriException("scale ({}, {}, {}) has a zero factor", factors.x(), factors.y(),
+                            factors.z());
+    Eigen::Matrix4f matrix = Eigen::Matrix4f::Identity();
+    matrix.diagonal().head<3>() = factors;
+    Eigen::Matrix4f inverse = Eigen::Matrix4f::Identity();
+    inverse.diagonal().head<3>() = factors.cwiseInverse();
+    return Transform(matrix, inverse);
+}
+
+Transform Transform::rotate(const Vector3f &axis, float angleDegrees) {
+    if (axis.norm() == 0.0f)
+        throw NoriException("rotation axis is the zero vector");
+    Eigen::Matrix4f matrix = Eigen::Matrix4f::Identity();
+    matrix.topLeftCorner<3, 3>() =
+        Eigen::AngleAxisf(degToRad(angleDegrees), axis.normalized()).toRotationMatrix();
+    // A rotation's inverse is its transpose.
+    return Transform(matrix, matrix.transpose());
+}
+
+Transform Transform::lookAt(const Point3f &origin, const Point3f &target, const Vector3f &up) {
+    Vector3f dir = target - origin;
+    if (dir.norm() == 0.0f)
+        throw NoriException("lookat: origin and target are the same point");
+    dir.normalize();
+    Vector3f left = up.normalized().cross(dir);
+    if (left.norm() < 1e-6f)
+        throw NoriException("lookat: 'up' is parallel to the viewing direction");
+    left.normalize();
+    Vector3f newUp = dir.cross(left);
+
+    Eigen::Matrix4f matrix = Eigen::Matrix4f::Identity();
+    matrix.col(0).head<3>() = left;
+    matrix.col(1).head<3>() = newUp;
+    matrix.col(2).head<3>() = dir;
+    matrix.col(3).head<3>() = origin;
+    return Transform(matrix);
+}
+
+std::string Transform::toString() const {
+    std::ostringstream out;
+    out << m_transform.format(Eigen::IOFormat(4, 0, ", ", ";\n", "", "", "[", "]"));
+    return out.str();
+}
+
+} // namespace nori
