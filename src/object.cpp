@@ -21,12 +21,18 @@ std::vector<std::string> &duplicateRegistrations() {
     return duplicates;
 }
 
+/// "a bsdf", "an integrator".
+std::string withArticle(NoriObject::EClassType type) {
+    const std::string name = NoriObject::classTypeName(type);
+    return (std::string("aeiou").find(name[0]) != std::string::npos ? "an " : "a ") + name;
+}
+
 } // namespace
 
 void NoriObject::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
     (void)name;
-    throw NoriException("a {} does not accept a {} as a child", classTypeName(getClassType()),
-                        classTypeName(child->getClassType()));
+    throw NoriException("{} does not accept {} as a child", withArticle(getClassType()),
+                        withArticle(child->getClassType()));
 }
 
 std::string NoriObject::classTypeName(EClassType type) {
@@ -46,9 +52,8 @@ void NoriObjectFactory::registerClass(const std::string &name, NoriObject::EClas
                                       Constructor constructor) {
     auto [it, inserted] = registry().emplace(name, Entry{type, std::move(constructor)});
     if (!inserted)
-        throw NoriException("plugin name '{}' is registered twice (as a {} and as a {})", name,
-                            NoriObject::classTypeName(it->second.type),
-                            NoriObject::classTypeName(type));
+        throw NoriException("plugin name '{}' is registered twice (as {} and as {})", name,
+                            withArticle(it->second.type), withArticle(type));
 }
 
 bool NoriObjectFactory::registerStatic(const std::string &name, NoriObject::EClassType type,
@@ -66,7 +71,8 @@ bool NoriObjectFactory::registerStatic(const std::string &name, NoriObject::ECla
 }
 
 void NoriObjectFactory::checkRegistry() {
-    const auto &duplicates = duplicateRegistrations();
+    std::vector<std::string> duplicates;
+    std::swap(duplicates, duplicateRegistrations());
     if (!duplicates.empty())
         throw NoriException("{}", fmt::join(duplicates, "; "));
 }
@@ -88,9 +94,8 @@ std::shared_ptr<NoriObject> NoriObjectFactory::createInstance(const std::string 
                             name, hint);
     }
     if (it->second.type != expectedType)
-        throw NoriException("plugin '{}' is a {}, not a {}", name,
-                            NoriObject::classTypeName(it->second.type),
-                            NoriObject::classTypeName(expectedType));
+        throw NoriException("plugin '{}' is {}, not {}", name, withArticle(it->second.type),
+                            withArticle(expectedType));
     std::shared_ptr<NoriObject> object = it->second.constructor(props);
     props.checkAllRead(fmt::format("{} '{}'", NoriObject::classTypeName(expectedType), name));
     return object;

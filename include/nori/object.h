@@ -63,7 +63,8 @@ public:
     /// duplicate is remembered and reported by checkRegistry().
     static bool registerStatic(const std::string &name, NoriObject::EClassType type,
                                Constructor constructor) noexcept;
-    /// Throws NoriException listing the names that were registered twice at start-up.
+    /// Throws NoriException listing the names that were registered twice at start-up
+    /// (each duplicate is reported once).
     static void checkRegistry();
 
     /// Constructs a plugin of the expected kind. Throws for unknown names (with a

@@ -1,0 +1,127 @@
+// The `nori` program as a user runs it: output files, options, errors and Ctrl-C.
+#include <nori/bitmap.h>
+
+#include "testutil.h"
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+using Catch::Contains;
+using nori::testing::runNori;
+using nori::testing::TempDir;
+
+namespace {
+
+/// A small AO scene; $spp and $size can be set with -D.
+const char *kScene = R"(<?xml version="1.0"?>
+<scene>
+    <default name="spp" value="2"/>
+    <default name="size" value="48"/>
+    <integrator type="ao"/>
+    <sampler type="independent"><integer name="sampleCount" value="$spp"/></sampler>
+    <camera type="perspective">
+        <integer name="width" value="$size"/><integer name="height" value="$size"/>
+        <transform name="toWorld"><lookat origin="0,1,5" target="0,0.5,0"/></transform>
+    </camera>
+    <mesh type="sphere"><point name="center" value="0,1,0"/></mesh>
+    <mesh type="obj"><string name="filename" value="meshes/floor.obj"/></mesh>
+</scene>
+)";
+
+const char *kFloor = "v -5 0 -5\nv -5 0 5\nv 5 0 5\nv 5 0 -5\nf 1 2 3 4\n";
+
+} // namespace
+
+TEST_CASE("nori renders a scene to EXR and PNG next to it", "[cli]") {
+    TempDir dir;
+    dir.write("meshes/floor.obj", kFloor);
+    const std::string scene = dir.write("scene.xml", kScene);
+    auto result = runNori({scene});
+    INFO(result.output);
+    REQUIRE(result.exitCode == 0);
+    CHECK_THAT(result.output, Contains("Rendering: 100%") && Contains("Done in"));
+    Bitmap image = Bitmap::load((dir.path() / "scene.exr").string());
+    CHECK(image.width() == 48);
+    CHECK(std::filesystem::exists(dir.path() / "scene.png"));
+
+    SECTION("-o names the output; -D overrides a <default>") {
+        const std::string out = (dir.path() / "renders" / "out.exr").string();
+        std::filesystem::create_directories(dir.path() / "renders");
+        auto custom = runNori({"-D", "size=24", "-Dspp=1", "-o", out, "--no-progress", scene});
+        INFO(custom.output);
+        REQUIRE(custom.exitCode == 0);
+        CHECK(Bitmap::load(out).width() == 24);
+        CHECK(std::filesystem::exists(dir.path() / "renders" / "out.png"));
+        CHECK_THAT(custom.output, !Contains("Rendering:"));
+    }
+}
+
+TEST_CASE("nori reports a misspelled property with file:line and did-you-mean", "[cli]") {
+    TempDir dir;
+    const std::string scene = dir.write("typo.xml", R"(<scene>
+    <integrator type="ao">
+        <float name="lenght" value="2"/>
+    </integrator>
+    <camera type="perspective"/>
+</scene>)");
+    auto result = runNori({scene});
+    CHECK(result.exitCode == 1);
+    CHECK_THAT(result.output, Contains("typo.xml:3:10") && Contains("'lenght'") &&
+                                  Contains("integrator 'ao'") &&
+                                  Contains("did you mean 'length'?"));
+}
+
+TEST_CASE("nori reports bad input files and options without crashing", "[cli]") {
+    TempDir dir;
+    const std::string brokenObj = dir.write("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
+    const std::string scene = dir.write("scene.xml", R"(<scene>
+    <integrator type="normals"/><camera type="perspective"/>
+    <mesh type="obj"><string name="filename" value="broken.obj"/></mesh>
+</scene>)");
+    auto objResult = runNori({scene});
+    CHECK(objResult.exitCode == 1);
+    CHECK_THAT(objResult.output, Contains("scene.xml:3:6") && Contains("broken.obj:3:") &&
+                                     Contains("vertex index 7 is out of range"));
+
+    auto missing = runNori({(dir.path() / "nothing.xml").string()});
+    CHECK(missing.exitCode == 1);
+    CHECK_THAT(missing.output, Contains("cannot open XML file") && Contains("nothing.xml"));
+
+    auto badOption = runNori({"--sppp", "4", scene});
+    CHECK(badOption.exitCode == 1);
+    CHECK_THAT(badOption.output, Contains("unknown option '--sppp'"));
+
+    auto badValue = runNori({"--spp", "0", scene});
+    CHECK(badValue.exitCode == 1);
+    CHECK_THAT(badValue.output, Contains("--spp must be a positive integer"));
+}
+
+TEST_CASE("nori --list-plugins prints every plugin by kind", "[cli]") {
+    auto result = runNori({"--list-plugins"});
+    CHECK(result.exitCode == 0);
+    CHECK_THAT(result.output, Contains("integrator:\n  ao\n  normals\n  simple\n") &&
+                                  Contains("rfilter:\n  box\n  gaussian\n  mitchell\n  tent\n"));
+}
+
+TEST_CASE("Ctrl-C writes the finished blocks as a partial image and exits non-zero", "[cli]") {
+    TempDir dir;
+    dir.write("meshes/floor.obj", kFloor);
+    const std::string scene = dir.write("slow.xml", kScene);
+    // 16 blocks of 1024 pixels at 2000 spp take seconds; interrupt once the first
+    // progress line (printed when a block finishes) appears.
+    auto result = runNori({"-D", "size=128", "--spp", "2000", scene}, "elapsed");
+    INFO(result.output);
+    CHECK(result.exitCode == 130);
+    CHECK_THAT(result.output, Contains("Interrupted: wrote the") && Contains("of 16 blocks"));
+    CHECK_FALSE(std::filesystem::exists(dir.path() / "slow.exr"));
+    REQUIRE(std::filesystem::exists(dir.path() / "slow_partial.png"));
+    Bitmap partial = Bitmap::load((dir.path() / "slow_partial.exr").string());
+    // Finished blocks hold the render, the rest (at least half of the image, as it was
+    // interrupted right after the first block) is black.
+    int black = 0, lit = 0;
+    for (int y = 0; y < partial.height(); ++y)
+        for (int x = 0; x < partial.width(); ++x)
+            (partial(y, x).maxCoeff() == 0.0f ? black : lit)++;
+    CHECK(black > 128 * 128 / 2);
+    CHECK(lit > 0);
+}

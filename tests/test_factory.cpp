@@ -1,0 +1,68 @@
+// The object factory: registration, duplicates, listing, creation by kind.
+#include <nori/object.h>
+
+#include "recorder.h"
+#include "testutil.h"
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+using Catch::Contains;
+using nori::testing::errorOf;
+
+TEST_CASE("Factory lists every plugin with its kind", "[factory]") {
+    auto classes = NoriObjectFactory::registeredClasses();
+    auto has = [&](NoriObject::EClassType type, const std::string &name) {
+        return std::find(classes.begin(), classes.end(), std::make_pair(type, name)) !=
+               classes.end();
+    };
+    CHECK(has(NoriObject::EIntegrator, "normals"));
+    CHECK(has(NoriObject::EIntegrator, "ao"));
+    CHECK(has(NoriObject::EIntegrator, "simple"));
+    CHECK(has(NoriObject::EMesh, "obj"));
+    CHECK(has(NoriObject::EMesh, "sphere"));
+    CHECK(has(NoriObject::ECamera, "perspective"));
+    CHECK(has(NoriObject::ESampler, "independent"));
+    CHECK(has(NoriObject::EBSDF, "diffuse"));
+    for (const char *filter : {"box", "tent", "gaussian", "mitchell"})
+        CHECK(has(NoriObject::EReconstructionFilter, filter));
+    CHECK(std::is_sorted(classes.begin(), classes.end()));
+    // No name was registered twice at start-up.
+    CHECK_NOTHROW(NoriObjectFactory::checkRegistry());
+}
+
+TEST_CASE("Factory rejects a name registered twice", "[factory]") {
+    auto constructor = [](const PropertyList &props) -> std::shared_ptr<NoriObject> {
+        return std::make_shared<nori::testing::Recorder>(props);
+    };
+    CHECK_THAT(errorOf([&] {
+                   NoriObjectFactory::registerClass("diffuse", NoriObject::ETest, constructor);
+               }),
+               Contains("'diffuse' is registered twice (as a bsdf and as a test)"));
+    // At static-initialisation time the duplicate is remembered instead of thrown.
+    CHECK_FALSE(NoriObjectFactory::registerStatic("recorder", NoriObject::ETest, constructor));
+    CHECK_THAT(errorOf([] { NoriObjectFactory::checkRegistry(); }),
+               Contains("'recorder' is registered twice"));
+}
+
+TEST_CASE("Factory creates by name and checks the kind and the properties", "[factory]") {
+    PropertyList props;
+    props.setColor("albedo", Color3f(0.25f));
+    auto bsdf = NoriObjectFactory::createInstance("diffuse", NoriObject::EBSDF, props);
+    REQUIRE(bsdf);
+    CHECK(bsdf->getClassType() == NoriObject::EBSDF);
+
+    CHECK_THAT(errorOf([] {
+                   NoriObjectFactory::createInstance("difuse", NoriObject::EBSDF, PropertyList());
+               }),
+               Contains("unknown bsdf plugin 'difuse' (did you mean 'diffuse'?)"));
+    CHECK_THAT(errorOf([] {
+                   NoriObjectFactory::createInstance("zzz", NoriObject::EBSDF, PropertyList());
+               }),
+               Contains("known bsdf plugins: diffuse"));
+    PropertyList typo;
+    typo.setColor("albdo", Color3f(0.25f));
+    CHECK_THAT(
+        errorOf([&] { NoriObjectFactory::createInstance("diffuse", NoriObject::EBSDF, typo); }),
+        Contains("'albdo' is not a parameter of bsdf 'diffuse' (did you mean 'albedo'?)"));
+}

@@ -1,0 +1,135 @@
+// Reconstruction filters, image blocks and image files.
+#include <nori/bitmap.h>
+#include <nori/imageblock.h>
+#include <nori/rfilter.h>
+
+#include "testutil.h"
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+using Catch::Contains;
+using nori::testing::errorOf;
+using nori::testing::TempDir;
+
+namespace {
+
+std::shared_ptr<ReconstructionFilter> makeFilter(const std::string &name,
+                                                 const PropertyList &props = PropertyList()) {
+    return std::static_pointer_cast<ReconstructionFilter>(
+        NoriObjectFactory::createInstance(name, NoriObject::EReconstructionFilter, props));
+}
+
+/// Composite Simpson's rule on [a, b] with n (even) intervals.
+template <typename F> double simpson(F f, double a, double b, int n) {
+    const double h = (b - a) / n;
+    double sum = f(a) + f(b);
+    for (int i = 1; i < n; ++i)
+        sum += (i % 2 ? 4.0 : 2.0) * f(a + i * h);
+    return sum * h / 3.0;
+}
+
+} // namespace
+
+TEST_CASE("Every reconstruction filter integrates to 1 over its support", "[filter]") {
+    PropertyList wide;
+    wide.setFloat("radius", 3.0f);
+    PropertyList gaussianNarrow;
+    gaussianNarrow.setFloat("stddev", 0.25f);
+    struct Case {
+        const char *name;
+        PropertyList props;
+    };
+    for (const Case &c :
+         {Case{"box", {}}, Case{"tent", {}}, Case{"gaussian", {}}, Case{"mitchell", {}},
+          Case{"box", wide}, Case{"tent", wide}, Case{"gaussian", wide}, Case{"mitchell", wide},
+          Case{"gaussian", gaussianNarrow}}) {
+        auto filter = makeFilter(c.name, c.props);
+        const float r = filter->getRadius();
+        // The box and tent have kinks at 0 and ±r; splitting there keeps Simpson exact
+        // for piecewise polynomials up to degree 3, so 1e-4 bounds only round-off and
+        // the Gaussian's smooth truncation error.
+        double integral =
+            simpson([&](double x) { return filter->eval(static_cast<float>(x)); }, -r, 0.0, 2000) +
+            simpson([&](double x) { return filter->eval(static_cast<float>(x)); }, 0.0, r, 2000);
+        INFO(c.name << " radius " << r);
+        CHECK(integral == Approx(1.0).margin(1e-4));
+        CHECK(filter->eval(r * 1.01f) == 0.0f);
+    }
+}
+
+TEST_CASE("Filters reject a non-positive radius", "[filter]") {
+    PropertyList props;
+    props.setFloat("radius", -1.0f);
+    CHECK_THAT(errorOf([&] { makeFilter("tent", props); }),
+               Contains("tent filter: 'radius' must be positive"));
+}
+
+TEST_CASE("An image block reproduces a constant image with any filter", "[filter]") {
+    for (const char *name : {"box", "tent", "gaussian", "mitchell"}) {
+        auto filter = makeFilter(name);
+        ImageBlock image(Vector2i(8, 6), filter.get());
+        // Two blocks covering the image, splatted separately and merged.
+        for (int half = 0; half < 2; ++half) {
+            ImageBlock block(Vector2i(4, 6), filter.get());
+            block.setOffset(Point2i(4 * half, 0));
+            for (int y = 0; y < 6; ++y)
+                for (int x = 0; x < 4; ++x)
+                    for (int s = 0; s < 4; ++s) // stratified positions inside the pixel
+                        block.put(Point2f(4 * half + x + 0.25f + 0.5f * (s % 2),
+                                          y + 0.25f + 0.5f * (s / 2)),
+                                  Color3f(0.5f, 1.0f, 2.0f));
+            image.put(block);
+        }
+        Bitmap bitmap = image.toBitmap();
+        INFO(name);
+        for (int y = 0; y < 6; ++y)
+            for (int x = 0; x < 8; ++x)
+                CHECK(bitmap(y, x).isApprox(Color3f(0.5f, 1.0f, 2.0f), 1e-5f));
+    }
+}
+
+TEST_CASE("EXR files round-trip exactly; PNG within 8-bit quantisation", "[image]") {
+    TempDir dir;
+    Bitmap image(Eigen::Vector2i(5, 3));
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x)
+            image(y, x) = Color3f(0.1f * x, 0.3f * y, 0.123456f + x * y);
+    const std::string exr = (dir.path() / "image.exr").string();
+    image.saveEXR(exr);
+    Bitmap loaded = Bitmap::load(exr);
+    REQUIRE(loaded.width() == 5);
+    REQUIRE(loaded.height() == 3);
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x)
+            CHECK((loaded(y, x) == image(y, x)).all());
+
+    const std::string png = (dir.path() / "image.png").string();
+    image.savePNG(png);
+    Bitmap fromPng = Bitmap::load(png);
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x) {
+            Color3f expected = image(y, x).min(1.0f);
+            // Half a step of 1/255 in sRGB is at most ~0.0049 in linear (near white).
+            CHECK(((fromPng(y, x) - expected).abs() <= 0.005f).all());
+        }
+}
+
+TEST_CASE("sRGB conversion is inverted by toLinearRGB", "[image]") {
+    for (float v : {0.0f, 0.001f, 0.0031308f, 0.2f, 0.5f, 1.0f}) {
+        Color3f c(v);
+        CHECK(c.toSRGB().toLinearRGB().isApprox(c, 1e-5f));
+    }
+    CHECK(Color3f(0.5f).toSRGB().r() == Approx(0.735357f).epsilon(1e-5));
+}
+
+TEST_CASE("Image loading errors name the file", "[image]") {
+    TempDir dir;
+    CHECK_THAT(errorOf([] { Bitmap::load("/nonexistent/image.exr"); }),
+               Contains("'/nonexistent/image.exr' does not exist"));
+    const std::string bad = dir.write("broken.exr", "not an exr file");
+    CHECK_THAT(errorOf([&] { Bitmap::load(bad); }),
+               Contains("cannot read EXR image") && Contains("broken.exr"));
+    const std::string tiff = dir.write("image.tiff", "x");
+    CHECK_THAT(errorOf([&] { Bitmap::load(tiff); }), Contains("unsupported file type '.tiff'"));
+}

@@ -1,0 +1,74 @@
+#include "testutil.h"
+
+#include <csignal>
+#include <fstream>
+#include <random>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace nori::testing {
+
+TempDir::TempDir() {
+    std::random_device device;
+    m_path = std::filesystem::temp_directory_path() /
+             fmt::format("nori-test-{}-{:08x}", getpid(), device());
+    std::filesystem::create_directories(m_path);
+}
+
+TempDir::~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(m_path, ignored);
+}
+
+std::string TempDir::write(const std::string &relativeName, const std::string &content) const {
+    std::filesystem::path file = m_path / relativeName;
+    std::filesystem::create_directories(file.parent_path());
+    std::ofstream(file, std::ios::binary) << content;
+    return file.string();
+}
+
+ProcessResult runNori(const std::vector<std::string> &arguments,
+                      const std::string &interruptAfter) {
+    int pipeEnds[2];
+    if (pipe(pipeEnds) != 0)
+        throw NoriException("pipe() failed");
+    pid_t pid = fork();
+    if (pid < 0)
+        throw NoriException("fork() failed");
+    if (pid == 0) {
+        dup2(pipeEnds[1], STDOUT_FILENO);
+        dup2(pipeEnds[1], STDERR_FILENO);
+        close(pipeEnds[0]);
+        close(pipeEnds[1]);
+        std::vector<char *> argv;
+        std::string program = NORI_EXECUTABLE;
+        argv.push_back(program.data());
+        std::vector<std::string> copies(arguments);
+        for (std::string &argument : copies)
+            argv.push_back(argument.data());
+        argv.push_back(nullptr);
+        execv(program.c_str(), argv.data());
+        _exit(127);
+    }
+    close(pipeEnds[1]);
+
+    ProcessResult result;
+    bool interrupted = false;
+    char buffer[4096];
+    ssize_t count;
+    while ((count = read(pipeEnds[0], buffer, sizeof(buffer))) > 0) {
+        result.output.append(buffer, static_cast<size_t>(count));
+        if (!interrupted && !interruptAfter.empty() &&
+            result.output.find(interruptAfter) != std::string::npos) {
+            kill(pid, SIGINT);
+            interrupted = true;
+        }
+    }
+    close(pipeEnds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return result;
+}
+
+} // namespace nori::testing

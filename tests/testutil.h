@@ -1,0 +1,48 @@
+// Helpers shared by the Catch2 tests: temporary folders, files, and running `nori`.
+#pragma once
+
+#include <nori/object.h>
+
+#include <filesystem>
+#include <string>
+
+namespace nori::testing {
+
+/// A fresh directory under the system's temp folder, removed with its content.
+class TempDir {
+public:
+    TempDir();
+    ~TempDir();
+    TempDir(const TempDir &) = delete;
+    TempDir &operator=(const TempDir &) = delete;
+
+    const std::filesystem::path &path() const { return m_path; }
+    /// Writes `content` to path()/relativeName (creating folders) and returns the path.
+    std::string write(const std::string &relativeName, const std::string &content) const;
+
+private:
+    std::filesystem::path m_path;
+};
+
+/// The outcome of running a program: its exit status and what it printed.
+struct ProcessResult {
+    int exitCode = -1;  ///< exit status, or 128 + signal number if killed
+    std::string output; ///< stdout and stderr, interleaved
+};
+
+/// Runs `nori` with the arguments. If `interruptAfter` is non-empty, sends SIGINT
+/// once that text has appeared in the output.
+ProcessResult runNori(const std::vector<std::string> &arguments,
+                      const std::string &interruptAfter = "");
+
+/// The message of the NoriException thrown by f, or "" if none was thrown.
+template <typename F> std::string errorOf(F &&f) {
+    try {
+        f();
+    } catch (const NoriException &error) {
+        return error.what();
+    }
+    return "";
+}
+
+} // namespace nori::testing
