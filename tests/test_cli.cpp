@@ -107,9 +107,9 @@ TEST_CASE("Ctrl-C writes the finished blocks as a partial image and exits non-ze
     TempDir dir;
     dir.write("meshes/floor.obj", kFloor);
     const std::string scene = dir.write("slow.xml", kScene);
-    // 16 blocks of 1024 pixels at 2000 spp take seconds; interrupt once the first
+    // 16 blocks of 1024 pixels at 1000 spp take seconds; interrupt once the first
     // progress line (printed when a block finishes) appears.
-    auto result = runNori({"-D", "size=128", "--spp", "2000", scene}, "elapsed");
+    auto result = runNori({"-D", "size=128", "--spp", "1000", scene}, "elapsed");
     INFO(result.output);
     CHECK(result.exitCode == 130);
     CHECK_THAT(result.output, Contains("Interrupted: wrote the") && Contains("of 16 blocks"));
