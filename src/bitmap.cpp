@@ -99,7 +99,7 @@ void Bitmap::savePNG(const std::string &filename) const {
             for (int c = 0; c < 3; ++c) {
                 float value = std::isfinite(srgb[c]) ? std::clamp(srgb[c], 0.0f, 1.0f) : 0.0f;
                 rgb[3 * (static_cast<size_t>(y) * width() + x) + c] =
-                    static_cast<unsigned char>(value * 255.0f + 0.5f);
+                    static_cast<unsigned char>(std::lround(value * 255.0f));
             }
         }
     if (!stbi_write_png(filename.c_str(), width(), height(), 3, rgb.data(), 3 * width()))

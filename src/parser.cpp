@@ -88,6 +88,7 @@ const std::map<std::string, TagInfo> &tagTable() {
 
 std::vector<std::string> keysOf(const std::map<std::string, TagInfo> &table) {
     std::vector<std::string> keys;
+    keys.reserve(table.size());
     for (const auto &entry : table)
         keys.push_back(entry.first);
     return keys;

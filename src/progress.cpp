@@ -1,6 +1,7 @@
 #include <nori/common.h>
 #include <nori/progress.h>
 
+#include <cmath>
 #include <cstdio>
 #include <unistd.h>
 
@@ -11,7 +12,7 @@ std::string formatDuration(double seconds) {
         return fmt::format("{:.0f} ms", seconds * 1000.0);
     if (seconds < 60.0)
         return fmt::format("{:.1f} s", seconds);
-    const long total = static_cast<long>(seconds + 0.5);
+    const long total = std::lround(seconds);
     if (total < 3600)
         return fmt::format("{} min {:02d} s", total / 60, total % 60);
     return fmt::format("{} h {:02d} min", total / 3600, (total % 3600) / 60);

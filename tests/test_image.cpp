@@ -123,6 +123,13 @@ TEST_CASE("sRGB conversion is inverted by toLinearRGB", "[image]") {
     CHECK(Color3f(0.5f).toSRGB().r() == Approx(0.735357f).epsilon(1e-5));
 }
 
+TEST_CASE("Luminance uses Nori's Rec. 709 weights", "[image]") {
+    CHECK(Color3f(1.0f, 0.0f, 0.0f).getLuminance() == 0.212671f);
+    CHECK(Color3f(0.0f, 1.0f, 0.0f).getLuminance() == 0.715160f);
+    CHECK(Color3f(0.0f, 0.0f, 1.0f).getLuminance() == 0.072169f);
+    CHECK(Color3f(1.0f).getLuminance() == Approx(1.0f));
+}
+
 TEST_CASE("Image loading errors name the file", "[image]") {
     TempDir dir;
     CHECK_THAT(errorOf([] { Bitmap::load("/nonexistent/image.exr"); }),

@@ -73,6 +73,48 @@ TEST_CASE("Parser loads a Nori 2 file with a blank line before <?xml", "[parser]
     CHECK(recorder->count == 3);
 }
 
+TEST_CASE("Parser loads a scene written the way Nori 2's course files are", "[parser]") {
+    TempDir dir;
+    // An octahedron, with Nori's formatting of the scene: blank line before a
+    // single-quoted declaration, tabs, a nested BSDF, comma-separated lookat.
+    dir.write("octahedron.obj", "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+                                "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\n"
+                                "f 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n");
+    const std::string file = dir.write("ajax-normals.xml", R"(
+<?xml version='1.0' encoding='utf-8'?>
+
+<scene>
+	<integrator type="normals"/>
+
+	<camera type="perspective">
+		<transform name="toWorld">
+			<scale value="-1,1,1"/>
+			<lookat target="0, 0, 0" origin="0.5, 0.8, 4" up="0, 1, 0"/>
+		</transform>
+		<float name="fov" value="40"/>
+		<integer name="width" value="64"/>
+		<integer name="height" value="48"/>
+	</camera>
+
+	<mesh type="obj">
+		<string name="filename" value="octahedron.obj"/>
+		<bsdf type="diffuse">
+			<color name="albedo" value="0.75,0.75,0.75"/>
+		</bsdf>
+	</mesh>
+</scene>
+)");
+    auto scene = std::dynamic_pointer_cast<Scene>(loadFromXML(file));
+    REQUIRE(scene);
+    REQUIRE(scene->getShapes().size() == 1);
+    CHECK(scene->getShapes()[0]->getPrimitiveCount() == 8);
+    CHECK(scene->getCamera()->getOutputSize() == Vector2i(64, 48));
+    // The camera looks at the octahedron: the central ray hits it.
+    Ray3f ray;
+    scene->getCamera()->sampleRay(ray, Point2f(32, 24), Point2f(0.5f, 0.5f));
+    CHECK(scene->rayIntersect(ray));
+}
+
 TEST_CASE("Parser binds named children, ids and refs", "[parser]") {
     auto r = parseRecorder(R"(<test type="recorder">
         <test type="recorder" id="shared" name="first"/>
