@@ -12,19 +12,13 @@ void Scene::addChild(const std::shared_ptr<NoriObject> &child, const std::string
         m_shapes.push_back(std::static_pointer_cast<Shape>(child));
         break;
     case EIntegrator:
-        if (m_integrator)
-            throw NoriException("a scene takes only one integrator");
-        m_integrator = std::static_pointer_cast<Integrator>(child);
+        setUniqueChild(m_integrator, child, "a scene");
         break;
     case ECamera:
-        if (m_camera)
-            throw NoriException("a scene takes only one camera");
-        m_camera = std::static_pointer_cast<Camera>(child);
+        setUniqueChild(m_camera, child, "a scene");
         break;
     case ESampler:
-        if (m_sampler)
-            throw NoriException("a scene takes only one sampler");
-        m_sampler = std::static_pointer_cast<Sampler>(child);
+        setUniqueChild(m_sampler, child, "a scene");
         break;
     default:
         NoriObject::addChild(child, name);
@@ -37,8 +31,7 @@ void Scene::activate() {
     if (!m_camera)
         throw NoriException("the scene has no camera");
     if (!m_sampler)
-        m_sampler = std::static_pointer_cast<Sampler>(
-            NoriObjectFactory::createInstance("independent", ESampler, PropertyList()));
+        m_sampler = createDefault<Sampler>("independent");
     for (const auto &shape : m_shapes)
         m_accel.addShape(shape.get());
     m_accel.build();

@@ -29,19 +29,15 @@ Ray3f Intersection::spawnRayTo(const Point3f &target) const {
 }
 
 void Shape::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
-    if (child->getClassType() == EBSDF) {
-        if (m_bsdf)
-            throw NoriException("a shape takes only one BSDF");
-        m_bsdf = std::static_pointer_cast<BSDF>(child);
-        return;
-    }
-    NoriObject::addChild(child, name);
+    if (child->getClassType() == EBSDF)
+        setUniqueChild(m_bsdf, child, "a shape");
+    else
+        NoriObject::addChild(child, name);
 }
 
 void Shape::activate() {
     if (!m_bsdf)
-        m_bsdf = std::static_pointer_cast<BSDF>(
-            NoriObjectFactory::createInstance("diffuse", EBSDF, PropertyList()));
+        m_bsdf = createDefault<BSDF>("diffuse");
 }
 
 } // namespace nori

@@ -277,6 +277,11 @@ TEST_CASE("Parser errors name the file, line, column and offending name", "[pars
                               "  <sampler type=\"independent\"/>\n</integrator></scene>"),
                    Contains("<string>:3:4") && Contains("an integrator does not accept a sampler"));
     }
+    SECTION("two children for one slot") {
+        CHECK_THAT(parseError("<scene>\n<integrator type=\"normals\"/>\n<integrator "
+                              "type=\"ao\"/></scene>"),
+                   Contains("<string>:3:2") && Contains("a scene takes only one integrator"));
+    }
     SECTION("an incomplete scene") {
         CHECK_THAT(parseError("<scene>\n<integrator type=\"normals\"/>\n</scene>"),
                    Contains("<string>:1:2") && Contains("the scene has no camera"));

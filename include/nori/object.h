@@ -78,6 +78,24 @@ public:
     static void unregisterClass(const std::string &name);
 };
 
+/// Stores a child in a parent's single slot for it (a scene's camera, a shape's BSDF),
+/// throwing when the slot is already taken.
+template <typename T>
+void setUniqueChild(std::shared_ptr<T> &slot, const std::shared_ptr<NoriObject> &child,
+                    const char *parentKind) {
+    if (slot)
+        throw NoriException("{} takes only one {}", parentKind,
+                            NoriObject::classTypeName(child->getClassType()));
+    slot = std::static_pointer_cast<T>(child);
+}
+
+/// Creates a plugin with default parameters, as a parent does for a missing child
+/// (e.g. the default "gaussian" filter of a camera).
+template <typename T> std::shared_ptr<T> createDefault(const std::string &name) {
+    return std::static_pointer_cast<T>(
+        NoriObjectFactory::createInstance(name, T::kClassType, PropertyList()));
+}
+
 /// Registers `cls` under `name`. The class must derive from a base class that defines
 /// `static constexpr EClassType kClassType` (every base class in include/nori does).
 #define NORI_REGISTER_CLASS(cls, name)                                                             \
