@@ -1,4 +1,7 @@
 #include <nori/mesh.h>
+#include <nori/triangle.h>
+
+#include <iostream>
 
 namespace nori {
 
@@ -24,27 +27,8 @@ float Mesh::surfaceArea(uint32_t index) const {
 
 bool Mesh::rayIntersect(uint32_t index, const Ray3f &ray, float &t, Point2f &hitCoords) const {
     const Vector3i &face = m_faces[index];
-    const Point3f &p0 = m_positions[face[0]], &p1 = m_positions[face[1]],
-                  &p2 = m_positions[face[2]];
-    Vector3f edge1 = p1 - p0, edge2 = p2 - p0;
-    Vector3f pvec = ray.d.cross(edge2);
-    float det = edge1.dot(pvec);
-    if (det == 0.0f || !std::isfinite(det))
-        return false;
-    float invDet = 1.0f / det;
-    Vector3f tvec = ray.o - p0;
-    float u = tvec.dot(pvec) * invDet;
-    if (u < 0.0f || u > 1.0f)
-        return false;
-    Vector3f qvec = tvec.cross(edge1);
-    float v = ray.d.dot(qvec) * invDet;
-    if (v < 0.0f || u + v > 1.0f)
-        return false;
-    t = edge2.dot(qvec) * invDet;
-    if (!(t >= ray.mint && t <= ray.maxt))
-        return false;
-    hitCoords = Point2f(u, v);
-    return true;
+    return intersectTriangle(WatertightRay(ray), m_positions[face[0]], m_positions[face[1]],
+                             m_positions[face[2]], t, hitCoords.x(), hitCoords.y());
 }
 
 void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
@@ -56,6 +40,9 @@ void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hi
                   &p2 = m_positions[face[2]];
 
     its.p = b0 * p0 + b1 * p1 + b2 * p2;
+    // Error of the barycentric interpolation (PBR 4th ed. §6.8.5, eq. 6.33).
+    its.pError = gammaBound(7) *
+                 Vector3f((b0 * p0).cwiseAbs() + (b1 * p1).cwiseAbs() + (b2 * p2).cwiseAbs());
     its.primIndex = index;
     its.shape = this;
 
@@ -96,17 +83,43 @@ void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hi
 }
 
 void Mesh::finishLoading(const Transform &toWorld) {
-    m_bbox = BoundingBox3f();
-    for (Point3f &p : m_positions) {
+    for (Point3f &p : m_positions)
         p = toWorld * p;
-        m_bbox.expandBy(p);
-    }
     for (Normal3f &n : m_normals) {
         n = toWorld * n;
         float length = n.norm();
         if (length > 0.0f)
             n /= length;
     }
+
+    // Triangles that no ray can hit (zero area) or that would poison the BVH (NaN or
+    // infinite vertices) are dropped.
+    size_t degenerate = 0, nonFinite = 0;
+    auto unusable = [&](const Vector3i &face) {
+        const Point3f &p0 = m_positions[face[0]], &p1 = m_positions[face[1]],
+                      &p2 = m_positions[face[2]];
+        if (!p0.allFinite() || !p1.allFinite() || !p2.allFinite()) {
+            ++nonFinite;
+            return true;
+        }
+        if (Vector3f(p1 - p0).cross(Vector3f(p2 - p0)).squaredNorm() == 0.0f) {
+            ++degenerate;
+            return true;
+        }
+        return false;
+    };
+    m_faces.erase(std::remove_if(m_faces.begin(), m_faces.end(), unusable), m_faces.end());
+    if (degenerate > 0 || nonFinite > 0)
+        std::cerr << fmt::format("Warning: mesh '{}': skipped {} degenerate (zero-area) and {} "
+                                 "non-finite triangles\n",
+                                 m_name, degenerate, nonFinite);
+    if (m_faces.empty())
+        std::cerr << fmt::format("Warning: mesh '{}' has no triangles\n", m_name);
+
+    m_bbox = BoundingBox3f();
+    for (const Vector3i &face : m_faces)
+        for (int i = 0; i < 3; ++i)
+            m_bbox.expandBy(m_positions[face[i]]);
 }
 
 std::string Mesh::toString() const {

@@ -1,7 +1,9 @@
-// Ray intersection against all shapes of a scene. The interface is the one the BVH
-// implements; this version tests every primitive (a temporary brute-force loop).
+// Ray intersection against all shapes of a scene, through one BVH over every primitive
+// (triangles of all meshes, spheres). Triangles are copied into leaf order so a leaf's
+// triangles are contiguous in memory; other shapes answer through Shape::rayIntersect.
 #pragma once
 
+#include <nori/bvh.h>
 #include <nori/shape.h>
 
 #include <vector>
@@ -11,16 +13,29 @@ namespace nori {
 class Accel {
 public:
     void addShape(const Shape *shape);
-    /// Builds the acceleration structure once all shapes are added.
+    /// Builds the BVH once all shapes are added. Primitives with non-finite bounds are
+    /// left out, and a warning says how many.
     void build();
 
     /// Closest hit along the ray's segment; with shadowRay, returns at the first hit
-    /// and leaves `its` unspecified.
+    /// and leaves `its` unspecified. Ties in t go to the lower (shape, primitive) index,
+    /// so the answer does not depend on the tree.
     bool rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) const;
     const BoundingBox3f &getBoundingBox() const { return m_bbox; }
+    const BVHBuildStatistics &statistics() const { return m_bvh.statistics(); }
 
 private:
+    /// One primitive in leaf order; triangles carry their vertices.
+    struct Primitive {
+        Point3f p0, p1, p2;
+        uint32_t shapeIndex;
+        uint32_t primIndex;
+    };
+
     std::vector<const Shape *> m_shapes;
+    std::vector<uint8_t> m_isMesh; // per shape: a Mesh, whose triangles are tested inline
+    std::vector<Primitive> m_primitives;
+    BVH m_bvh;
     BoundingBox3f m_bbox;
 };
 

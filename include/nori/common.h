@@ -18,8 +18,11 @@ constexpr float kInvPi = 0.31830988618379067154f;
 constexpr float kInvTwoPi = 0.15915494309189533577f;
 constexpr float kInvFourPi = 0.07957747154594766788f;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
-/// Offset used to leave a surface without re-hitting it (see Intersection::spawnRay).
+/// Default start of a ray's segment (Nori's Epsilon); rays leaving a surface use
+/// Intersection::spawnRay instead, which offsets the origin by a computed error bound.
 constexpr float kEpsilon = 1e-4f;
+/// Relative distance by which shadow rays stop short of their target.
+constexpr float kShadowEpsilon = 1e-4f;
 
 /// The one exception type of the renderer. Messages name the file, XML location,
 /// plugin, parameter and value concerned.

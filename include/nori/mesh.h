@@ -14,8 +14,8 @@ public:
     uint32_t getPrimitiveCount() const override { return static_cast<uint32_t>(m_faces.size()); }
     BoundingBox3f getPrimitiveBoundingBox(uint32_t index) const override;
     Point3f getPrimitiveCentroid(uint32_t index) const override;
-    /// Möller–Trumbore ray–triangle test; hitCoords are the barycentrics (u, v) of
-    /// vertices 1 and 2 ("Fast, Minimum Storage Ray/Triangle Intersection", 1997).
+    /// The watertight ray–triangle test (triangle.h); hitCoords are the barycentrics of
+    /// vertices 1 and 2.
     bool rayIntersect(uint32_t index, const Ray3f &ray, float &t,
                       Point2f &hitCoords) const override;
     void setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
@@ -32,8 +32,10 @@ public:
     std::string toString() const override;
 
 protected:
-    /// Applies toWorld to the vertex data and computes the bounding box. Normals and
-    /// texture coordinates are optional (empty) but, when present, one per vertex.
+    /// Applies toWorld to the vertex data, drops triangles that are degenerate (zero
+    /// area) or have non-finite vertices, with a warning that counts them, and computes
+    /// the bounding box. Normals and texture coordinates are optional (empty) but, when
+    /// present, one per vertex.
     void finishLoading(const Transform &toWorld);
 
     std::string m_name;               ///< e.g. the file name, for messages

@@ -13,6 +13,7 @@ class Shape;
 
 struct Intersection {
     Point3f p;           ///< hit position
+    Vector3f pError;     ///< bound on the absolute floating-point error of p
     float t = kInfinity; ///< ray parameter of the hit
     Point2f uv;          ///< surface parameterisation
     Frame shFrame;       ///< shading frame (interpolated normal)
@@ -26,7 +27,8 @@ struct Intersection {
     Vector3f toWorld(const Vector3f &d) const { return shFrame.toWorld(d); }
 
     /// A ray leaving the surface in direction d, its origin pushed off the surface along
-    /// the geometric normal (to the side d points to) so it cannot hit the surface again.
+    /// the geometric normal (to the side d points to) by the error bound pError, so it
+    /// cannot hit the surface again (PBR 4th ed. §6.8.6).
     Ray3f spawnRay(const Vector3f &d) const;
     /// A shadow-ray segment from the surface to `target`, ending just short of it.
     Ray3f spawnRayTo(const Point3f &target) const;

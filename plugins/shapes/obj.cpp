@@ -16,7 +16,6 @@
 #include <nori/strutil.h>
 
 #include <fstream>
-#include <iostream>
 #include <map>
 #include <sstream>
 #include <tuple>
@@ -171,8 +170,6 @@ public:
                 m_normals.push_back(parser.rawNormals()[corner.normal]);
         }
         m_faces = std::move(parser.triangles);
-        if (m_faces.empty())
-            std::cerr << "Warning: mesh '" << m_name << "' has no faces\n";
         finishLoading(toWorld);
     }
 };

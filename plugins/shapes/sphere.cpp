@@ -10,6 +10,7 @@
  *       <point name="center" value="0, 1, 0"/> <float name="radius" value="0.5"/>
  *   </mesh>
  */
+#include <nori/rayerror.h>
 #include <nori/shape.h>
 
 namespace nori {
@@ -58,8 +59,10 @@ public:
     void setHitInformation(uint32_t, const Ray3f &ray, const Point2f &,
                            Intersection &its) const override {
         const Vector3f n = Vector3f(ray(its.t) - m_center).normalized();
-        // Project back onto the surface to remove the error of o + t·d.
+        // Project back onto the surface to remove the error of o + t·d; what remains is
+        // the rounding of c + r·n (PBR 4th ed. §6.8.5 bounds it by γ₅|p| for a sphere).
         its.p = m_center + m_radius * n;
+        its.pError = gammaBound(5) * Vector3f(m_center.cwiseAbs() + (m_radius * n).cwiseAbs());
         its.primIndex = 0;
         its.shape = this;
 

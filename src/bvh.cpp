@@ -1,0 +1,326 @@
+#include <nori/bvh.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
+#include <array>
+#include <atomic>
+
+namespace nori {
+
+namespace {
+
+/// A primitive during the build: its bounds, centroid and index.
+struct PrimitiveRef {
+    BoundingBox3f bounds;
+    Point3f centroid;
+    uint32_t index;
+};
+
+/// A node of the temporary tree; children index into the same array.
+struct BuildNode {
+    BoundingBox3f bounds;
+    uint32_t children[2] = {0, 0};
+    uint32_t first = 0, count = 0; ///< primitive range of a leaf
+    uint16_t axis = 0;
+    bool leaf = false;
+};
+
+struct Bin {
+    BoundingBox3f bounds;
+    BoundingBox3f centroidBounds;
+    uint32_t count = 0;
+};
+
+/// Subtrees with more primitives than this are built as parallel tasks.
+constexpr uint32_t kParallelThreshold = 4096;
+
+class Builder {
+public:
+    explicit Builder(std::vector<PrimitiveRef> &refs)
+        : m_refs(refs), m_nodes(std::max<size_t>(1, 2 * refs.size())) {}
+
+    /// Builds the subtree over refs[first, first + count), whose bounds and centroid
+    /// bounds are given; returns its node index.
+    uint32_t build(uint32_t first, uint32_t count, const BoundingBox3f &bounds,
+                   const BoundingBox3f &centroidBounds, int depth) {
+        const uint32_t nodeIndex = m_nextNode.fetch_add(1, std::memory_order_relaxed);
+        BuildNode &node = m_nodes[nodeIndex];
+        node.bounds = bounds;
+        updateMaxDepth(depth);
+
+        Split split;
+        const bool found = depth < BVH::kSahDepthLimit
+                               ? findSahSplit(first, count, bounds, centroidBounds, split)
+                               : false;
+        if (!found && count <= static_cast<uint32_t>(BVH::kMaxLeafSize)) {
+            makeLeaf(node, first, count);
+            return nodeIndex;
+        }
+
+        uint32_t leftCount;
+        BoundingBox3f leftBounds, rightBounds, leftCentroids, rightCentroids;
+        if (found) {
+            leftCount = partition(first, count, split);
+            leftBounds = split.leftBounds;
+            rightBounds = split.rightBounds;
+            leftCentroids = split.leftCentroids;
+            rightCentroids = split.rightCentroids;
+            node.axis = static_cast<uint16_t>(split.axis);
+        } else {
+            // No useful SAH split (identical centroids, or too deep) but too many
+            // primitives for a leaf: halve the list along the widest centroid axis.
+            leftCount = count / 2;
+            const int axis = widestAxis(centroidBounds);
+            auto begin = m_refs.begin() + first;
+            std::nth_element(begin, begin + leftCount, begin + count,
+                             [axis](const PrimitiveRef &a, const PrimitiveRef &b) {
+                                 return a.centroid[axis] < b.centroid[axis];
+                             });
+            node.axis = static_cast<uint16_t>(axis);
+            rangeBounds(first, leftCount, leftBounds, leftCentroids);
+            rangeBounds(first + leftCount, count - leftCount, rightBounds, rightCentroids);
+        }
+
+        uint32_t left = 0, right = 0;
+        auto buildLeft = [&] {
+            left = build(first, leftCount, leftBounds, leftCentroids, depth + 1);
+        };
+        auto buildRight = [&] {
+            right =
+                build(first + leftCount, count - leftCount, rightBounds, rightCentroids, depth + 1);
+        };
+        if (count > kParallelThreshold) {
+            tbb::parallel_invoke(buildLeft, buildRight);
+        } else {
+            buildLeft();
+            buildRight();
+        }
+        node.children[0] = left;
+        node.children[1] = right;
+        return nodeIndex;
+    }
+
+    const std::vector<BuildNode> &nodes() const { return m_nodes; }
+    uint32_t nodeCount() const { return m_nextNode.load(); }
+    int maxDepth() const { return m_maxDepth.load(); }
+
+private:
+    struct Split {
+        int axis = -1;
+        int bin = 0;         ///< primitives in bins [0, bin] go left
+        float origin = 0.0f; ///< binning of the chosen axis: bin = scale·(c − origin)
+        float scale = 0.0f;
+        float cost = 0.0f;
+        BoundingBox3f leftBounds, rightBounds, leftCentroids, rightCentroids;
+    };
+
+    static int widestAxis(const BoundingBox3f &box) {
+        const Vector3f extents = box.getExtents();
+        int axis = 0;
+        extents.maxCoeff(&axis);
+        return axis;
+    }
+
+    void updateMaxDepth(int depth) {
+        int seen = m_maxDepth.load(std::memory_order_relaxed);
+        while (depth > seen && !m_maxDepth.compare_exchange_weak(seen, depth))
+            ;
+    }
+
+    void makeLeaf(BuildNode &node, uint32_t first, uint32_t count) {
+        node.leaf = true;
+        node.first = first;
+        node.count = count;
+    }
+
+    void rangeBounds(uint32_t first, uint32_t count, BoundingBox3f &bounds,
+                     BoundingBox3f &centroids) const {
+        bounds = BoundingBox3f();
+        centroids = BoundingBox3f();
+        for (uint32_t i = first; i < first + count; ++i) {
+            bounds.expandBy(m_refs[i].bounds);
+            centroids.expandBy(m_refs[i].centroid);
+        }
+    }
+
+    /// Bins the centroids on every axis with a usable extent and sweeps the bin
+    /// boundaries for the lowest SAH cost. Returns false when a leaf is cheaper.
+    bool findSahSplit(uint32_t first, uint32_t count, const BoundingBox3f &bounds,
+                      const BoundingBox3f &centroidBounds, Split &best) const {
+        if (count <= 1)
+            return false;
+        const Vector3f extent = centroidBounds.getExtents();
+        // Map a centroid to a bin: k·(c − min), with k slightly below kBinCount/extent so
+        // that the maximum lands in the last bin.
+        Vector3f scale;
+        for (int axis = 0; axis < 3; ++axis)
+            scale[axis] =
+                extent[axis] > 0.0f ? BVH::kBinCount * (1.0f - 1e-6f) / extent[axis] : 0.0f;
+
+        std::array<std::array<Bin, BVH::kBinCount>, 3> bins;
+        for (uint32_t i = first; i < first + count; ++i) {
+            const PrimitiveRef &ref = m_refs[i];
+            for (int axis = 0; axis < 3; ++axis) {
+                if (scale[axis] == 0.0f)
+                    continue;
+                const int b = binIndex(ref.centroid[axis], centroidBounds.min[axis], scale[axis]);
+                Bin &bin = bins[axis][b];
+                bin.bounds.expandBy(ref.bounds);
+                bin.centroidBounds.expandBy(ref.centroid);
+                ++bin.count;
+            }
+        }
+
+        const float leafCost = BVH::kIntersectionCost * static_cast<float>(count);
+        const float invArea = 1.0f / bounds.getSurfaceArea();
+        best.cost = std::numeric_limits<float>::infinity();
+        for (int axis = 0; axis < 3; ++axis) {
+            if (scale[axis] == 0.0f)
+                continue;
+            // Sweep from the right: area and count of everything right of each boundary.
+            std::array<float, BVH::kBinCount> rightArea{};
+            std::array<uint32_t, BVH::kBinCount> rightCount{};
+            BoundingBox3f accumulated;
+            uint32_t accumulatedCount = 0;
+            for (int b = BVH::kBinCount - 1; b > 0; --b) {
+                accumulated.expandBy(bins[axis][b].bounds);
+                accumulatedCount += bins[axis][b].count;
+                rightArea[b] = accumulated.getSurfaceArea();
+                rightCount[b] = accumulatedCount;
+            }
+            // Sweep from the left, splitting between bins b and b + 1.
+            accumulated = BoundingBox3f();
+            accumulatedCount = 0;
+            for (int b = 0; b < BVH::kBinCount - 1; ++b) {
+                accumulated.expandBy(bins[axis][b].bounds);
+                accumulatedCount += bins[axis][b].count;
+                if (accumulatedCount == 0 || rightCount[b + 1] == 0)
+                    continue;
+                const float cost =
+                    BVH::kTraversalCost +
+                    BVH::kIntersectionCost * invArea *
+                        (accumulated.getSurfaceArea() * static_cast<float>(accumulatedCount) +
+                         rightArea[b + 1] * static_cast<float>(rightCount[b + 1]));
+                if (cost < best.cost) {
+                    best.cost = cost;
+                    best.axis = axis;
+                    best.bin = b;
+                }
+            }
+        }
+        if (best.axis < 0)
+            return false;
+        if (best.cost >= leafCost && count <= static_cast<uint32_t>(BVH::kMaxLeafSize))
+            return false;
+
+        // The children's bounds follow from the bins.
+        for (int b = 0; b < BVH::kBinCount; ++b) {
+            const Bin &bin = bins[best.axis][b];
+            if (bin.count == 0)
+                continue;
+            (b <= best.bin ? best.leftBounds : best.rightBounds).expandBy(bin.bounds);
+            (b <= best.bin ? best.leftCentroids : best.rightCentroids).expandBy(bin.centroidBounds);
+        }
+        best.scale = scale[best.axis];
+        best.origin = centroidBounds.min[best.axis];
+        return true;
+    }
+
+    static int binIndex(float centroid, float origin, float scale) {
+        const int b = static_cast<int>(scale * (centroid - origin));
+        return std::clamp(b, 0, BVH::kBinCount - 1);
+    }
+
+    /// Moves the primitives of bins [0, split.bin] to the front; returns their count.
+    uint32_t partition(uint32_t first, uint32_t count, const Split &split) {
+        auto begin = m_refs.begin() + first;
+        auto middle = std::partition(begin, begin + count, [&](const PrimitiveRef &ref) {
+            return binIndex(ref.centroid[split.axis], split.origin, split.scale) <= split.bin;
+        });
+        return static_cast<uint32_t>(middle - begin);
+    }
+
+    std::vector<PrimitiveRef> &m_refs;
+    std::vector<BuildNode> m_nodes;
+    std::atomic<uint32_t> m_nextNode{0};
+    std::atomic<int> m_maxDepth{0};
+};
+
+} // namespace
+
+void BVH::build(const std::vector<BoundingBox3f> &bounds) {
+    m_nodes.clear();
+    m_primitiveOrder.clear();
+    m_statistics = BVHBuildStatistics();
+
+    // Primitives with empty or non-finite bounds (NaN vertices, ...) cannot be placed.
+    std::vector<PrimitiveRef> refs;
+    refs.reserve(bounds.size());
+    for (uint32_t i = 0; i < bounds.size(); ++i) {
+        const BoundingBox3f &box = bounds[i];
+        if (!box.isValid() || !box.min.allFinite() || !box.max.allFinite()) {
+            ++m_statistics.skippedPrimitives;
+            continue;
+        }
+        refs.push_back({box, box.getCenter(), i});
+    }
+    m_statistics.primitives = refs.size();
+    if (refs.empty())
+        return;
+
+    BoundingBox3f rootBounds, rootCentroids;
+    for (const PrimitiveRef &ref : refs) {
+        rootBounds.expandBy(ref.bounds);
+        rootCentroids.expandBy(ref.centroid);
+    }
+    Builder builder(refs);
+    builder.build(0, static_cast<uint32_t>(refs.size()), rootBounds, rootCentroids, 0);
+
+    // Flatten depth-first: an interior node's first child directly follows it.
+    const std::vector<BuildNode> &buildNodes = builder.nodes();
+    m_nodes.reserve(builder.nodeCount());
+    const float rootArea = rootBounds.getSurfaceArea();
+    auto flatten = [&](auto &&self, uint32_t index) -> void {
+        const BuildNode &node = buildNodes[index];
+        const uint32_t flatIndex = static_cast<uint32_t>(m_nodes.size());
+        BVHNode flat{};
+        for (int i = 0; i < 3; ++i) {
+            flat.boundsMin[i] = node.bounds.min[i];
+            flat.boundsMax[i] = node.bounds.max[i];
+        }
+        const float relativeArea = rootArea > 0.0f ? node.bounds.getSurfaceArea() / rootArea : 1.0f;
+        if (node.leaf) {
+            flat.offset = node.first;
+            flat.count = static_cast<uint16_t>(node.count);
+            m_nodes.push_back(flat);
+            ++m_statistics.leaves;
+            m_statistics.sahCost += relativeArea * kIntersectionCost * node.count;
+            return;
+        }
+        flat.axis = node.axis;
+        m_nodes.push_back(flat);
+        m_statistics.sahCost += relativeArea * kTraversalCost;
+        self(self, node.children[0]);
+        m_nodes[flatIndex].offset = static_cast<uint32_t>(m_nodes.size());
+        self(self, node.children[1]);
+    };
+    flatten(flatten, 0);
+
+    m_primitiveOrder.resize(refs.size());
+    for (size_t i = 0; i < refs.size(); ++i)
+        m_primitiveOrder[i] = refs[i].index;
+    m_statistics.nodes = m_nodes.size();
+    m_statistics.maxDepth = static_cast<size_t>(builder.maxDepth());
+}
+
+BoundingBox3f BVH::getBoundingBox() const {
+    if (m_nodes.empty())
+        return BoundingBox3f();
+    const BVHNode &root = m_nodes[0];
+    return BoundingBox3f(Point3f(root.boundsMin[0], root.boundsMin[1], root.boundsMin[2]),
+                         Point3f(root.boundsMax[0], root.boundsMax[1], root.boundsMax[2]));
+}
+
+} // namespace nori
