@@ -35,61 +35,63 @@ void Accel::build() {
 
     // Copy the primitives into leaf order.
     const std::vector<uint32_t> &order = m_bvh.primitiveOrder();
-    m_primitives.resize(order.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 4096),
-                      [&](const tbb::blocked_range<size_t> &range) {
-                          for (size_t slot = range.begin(); slot != range.end(); ++slot) {
-                              const auto [shapeIndex, primIndex] = refs[order[slot]];
-                              Primitive &primitive = m_primitives[slot];
-                              primitive.shapeIndex = shapeIndex;
-                              primitive.primIndex = primIndex;
-                              if (!m_isMesh[shapeIndex])
-                                  continue;
-                              const auto *mesh = static_cast<const Mesh *>(m_shapes[shapeIndex]);
-                              const Vector3i &face = mesh->getFaces()[primIndex];
-                              primitive.p0 = mesh->getVertexPositions()[face[0]];
-                              primitive.p1 = mesh->getVertexPositions()[face[1]];
-                              primitive.p2 = mesh->getVertexPositions()[face[2]];
-                          }
-                      });
+    m_triangles.resize(order.size());
+    m_ids.resize(order.size());
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, order.size(), 4096),
+        [&](const tbb::blocked_range<size_t> &range) {
+            for (size_t slot = range.begin(); slot != range.end(); ++slot) {
+                const auto [shapeIndex, primIndex] = refs[order[slot]];
+                m_ids[slot] = {shapeIndex, primIndex};
+                if (!m_isMesh[shapeIndex]) {
+                    m_triangles[slot].p0.x() = std::numeric_limits<float>::quiet_NaN();
+                    continue;
+                }
+                const auto *mesh = static_cast<const Mesh *>(m_shapes[shapeIndex]);
+                const Vector3i &face = mesh->getFaces()[primIndex];
+                const auto &positions = mesh->getVertexPositions();
+                m_triangles[slot] = {positions[face[0]], positions[face[1]], positions[face[2]]};
+            }
+        });
 }
 
 bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) const {
     const WatertightRay watertightRay(ray);
     float tBest = ray.maxt;
-    const Primitive *best = nullptr;
+    uint32_t bestSlot = 0;
+    bool found = false;
     Point2f bestCoords;
 
-    // Each primitive is tested against the ray's full segment; the closest hit (ties to
-    // the lower index) is kept and only used to cull nodes.
+    // Each primitive is tested against the ray's full segment, and the closest hit is
+    // kept (ties to the lower id); the BVH uses its distance to cull nodes.
     auto intersect = [&](uint32_t slot, float &tMax) {
-        const Primitive &primitive = m_primitives[slot];
         float t;
         Point2f coords;
-        if (m_isMesh[primitive.shapeIndex]) {
-            if (!intersectTriangle(watertightRay, primitive.p0, primitive.p1, primitive.p2, t,
-                                   coords.x(), coords.y()))
+        const TriangleVertices &v = m_triangles[slot];
+        if (v.isTriangle()) {
+            if (!intersectTriangle(watertightRay, v.p0, v.p1, v.p2, t, coords.x(), coords.y()))
                 return false;
-        } else if (!m_shapes[primitive.shapeIndex]->rayIntersect(primitive.primIndex, ray, t,
-                                                                 coords)) {
+        } else if (!m_shapes[m_ids[slot].shapeIndex]->rayIntersect(m_ids[slot].primIndex, ray, t,
+                                                                   coords)) {
             return false;
         }
-        if (best &&
-            (t > tBest || (t == tBest && std::make_pair(primitive.shapeIndex, primitive.primIndex) >
-                                             std::make_pair(best->shapeIndex, best->primIndex))))
+        if (found && (t > tBest || (t == tBest && m_ids[bestSlot] < m_ids[slot])))
             return false;
-        best = &primitive;
+        found = true;
+        bestSlot = slot;
         tBest = tMax = t;
         bestCoords = coords;
         return true;
     };
     float tMax = ray.maxt;
-    if (!m_bvh.traverse(ray, tMax, shadowRay, intersect) || !best)
+    auto prefetch = [&](uint32_t slot) { __builtin_prefetch(&m_triangles[slot]); };
+    if (!m_bvh.traverse(ray, tMax, shadowRay, intersect, prefetch))
         return false;
     if (shadowRay)
         return true;
     its.t = tBest;
-    m_shapes[best->shapeIndex]->setHitInformation(best->primIndex, ray, bestCoords, its);
+    const PrimitiveId &id = m_ids[bestSlot];
+    m_shapes[id.shapeIndex]->setHitInformation(id.primIndex, ray, bestCoords, its);
     return true;
 }
 

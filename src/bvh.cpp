@@ -278,14 +278,15 @@ void BVH::build(const std::vector<BoundingBox3f> &bounds) {
     Builder builder(refs);
     builder.build(0, static_cast<uint32_t>(refs.size()), rootBounds, rootCentroids, 0);
 
-    // Flatten depth-first: an interior node's first child directly follows it.
+    // Flatten depth-first, sibling pairs together: the root at 0 (1 is padding), then
+    // each interior node's children as a pair, followed by the first child's subtree.
     const std::vector<BuildNode> &buildNodes = builder.nodes();
-    m_nodes.reserve(builder.nodeCount());
+    m_nodes.resize(2 * static_cast<size_t>(builder.nodeCount()) + 2);
+    size_t nextPair = 2;
     const float rootArea = rootBounds.getSurfaceArea();
-    auto flatten = [&](auto &&self, uint32_t index) -> void {
-        const BuildNode &node = buildNodes[index];
-        const uint32_t flatIndex = static_cast<uint32_t>(m_nodes.size());
-        BVHNode flat{};
+    auto flatten = [&](auto &&self, uint32_t buildIndex, size_t flatIndex) -> void {
+        const BuildNode &node = buildNodes[buildIndex];
+        BVHNode &flat = m_nodes[flatIndex];
         for (int i = 0; i < 3; ++i) {
             flat.boundsMin[i] = node.bounds.min[i];
             flat.boundsMax[i] = node.bounds.max[i];
@@ -294,24 +295,26 @@ void BVH::build(const std::vector<BoundingBox3f> &bounds) {
         if (node.leaf) {
             flat.offset = node.first;
             flat.count = static_cast<uint16_t>(node.count);
-            m_nodes.push_back(flat);
             ++m_statistics.leaves;
             m_statistics.sahCost += relativeArea * kIntersectionCost * node.count;
             return;
         }
+        const size_t pair = nextPair;
+        nextPair += 2;
+        flat.offset = static_cast<uint32_t>(pair);
+        flat.count = 0;
         flat.axis = node.axis;
-        m_nodes.push_back(flat);
         m_statistics.sahCost += relativeArea * kTraversalCost;
-        self(self, node.children[0]);
-        m_nodes[flatIndex].offset = static_cast<uint32_t>(m_nodes.size());
-        self(self, node.children[1]);
+        self(self, node.children[0], pair);
+        self(self, node.children[1], pair + 1);
     };
-    flatten(flatten, 0);
+    flatten(flatten, 0, 0);
+    m_nodes.resize(nextPair);
 
     m_primitiveOrder.resize(refs.size());
     for (size_t i = 0; i < refs.size(); ++i)
         m_primitiveOrder[i] = refs[i].index;
-    m_statistics.nodes = m_nodes.size();
+    m_statistics.nodes = m_nodes.size() - 1; // without the padding slot
     m_statistics.maxDepth = static_cast<size_t>(builder.maxDepth());
 }
 

@@ -25,16 +25,28 @@ public:
     const BVHBuildStatistics &statistics() const { return m_bvh.statistics(); }
 
 private:
-    /// One primitive in leaf order; triangles carry their vertices.
-    struct Primitive {
+    /// A triangle's vertices, in leaf order. Other kinds of primitive have a NaN p0.x
+    /// (meshes have no non-finite vertices: Mesh drops such triangles), which saves a
+    /// separate flag and the cache miss of reading it.
+    struct TriangleVertices {
         Point3f p0, p1, p2;
+        bool isTriangle() const { return !std::isnan(p0.x()); }
+    };
+    /// Which shape and primitive a leaf slot holds; read only for the hit.
+    struct PrimitiveId {
         uint32_t shapeIndex;
         uint32_t primIndex;
+        bool operator<(const PrimitiveId &o) const {
+            return shapeIndex != o.shapeIndex ? shapeIndex < o.shapeIndex : primIndex < o.primIndex;
+        }
     };
 
     std::vector<const Shape *> m_shapes;
-    std::vector<uint8_t> m_isMesh; // per shape: a Mesh, whose triangles are tested inline
-    std::vector<Primitive> m_primitives;
+    std::vector<uint8_t> m_isMesh; ///< per shape: a Mesh, tested inline
+    // Per leaf slot, split by how often traversal reads them (memory, not compute,
+    // bounds incoherent rays): vertices for every test, ids only for the closest hit.
+    std::vector<TriangleVertices> m_triangles;
+    std::vector<PrimitiveId> m_ids;
     BVH m_bvh;
     BoundingBox3f m_bbox;
 };

@@ -29,8 +29,9 @@ struct WatertightRay {
 
 /// Intersects the ray with triangle (p0, p1, p2) within [mint, maxt]. On a hit, sets
 /// t and the barycentrics (b1, b2) of p1 and p2 and returns true.
-inline bool intersectTriangle(const WatertightRay &ray, const Point3f &p0, const Point3f &p1,
-                              const Point3f &p2, float &t, float &b1, float &b2) {
+[[gnu::always_inline]] inline bool intersectTriangle(const WatertightRay &ray, const Point3f &p0,
+                                                     const Point3f &p1, const Point3f &p2, float &t,
+                                                     float &b1, float &b2) {
     // Vertices relative to the ray origin, permuted and sheared into ray space.
     const Vector3f a = p0 - ray.o, b = p1 - ray.o, c = p2 - ray.o;
     const float az = a[ray.kz], bz = b[ray.kz], cz = c[ray.kz];

@@ -1,0 +1,300 @@
+// nori-bench: BVH build time and ray throughput on a mesh, for three ray sets defined
+// so that figures compare between renderers; with Embree 3 installed, the same rays go
+// through Embree in the same process. Also writes the bumpy-sphere test mesh.
+//
+//   nori-bench --make-mesh 1000000 sphere.obj
+//   nori-bench sphere.obj [--rays N] [--threads T]
+#include <nori/accel.h>
+#include <nori/mesh.h>
+#include <nori/pcg32.h>
+#include <nori/strutil.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#ifdef NORI_HAVE_EMBREE
+#include <embree3/rtcore.h>
+#endif
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <optional>
+
+using namespace nori;
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// A sphere of radius ~1 with bumps r(θ, φ) = 1 + 0.05·sin(12θ)·sin(12φ), tessellated as
+/// a latitude–longitude grid with single-vertex poles: 2·C·(R − 1) triangles for R rings
+/// and C = 2R columns, with R chosen to come closest to the requested count.
+void writeBumpySphere(size_t requestedTriangles, const std::string &filename) {
+    const int rings = std::max(
+        2, static_cast<int>(std::lround(0.5 * (1.0 + std::sqrt(1.0 + requestedTriangles)))));
+    const int columns = 2 * rings;
+    std::ofstream out(filename);
+    if (!out)
+        throw NoriException("cannot write '{}'", filename);
+    auto vertex = [&](double theta, double phi) {
+        const double r = 1.0 + 0.05 * std::sin(12.0 * theta) * std::sin(12.0 * phi);
+        out << fmt::format("v {:.7f} {:.7f} {:.7f}\n", r * std::sin(theta) * std::cos(phi),
+                           r * std::cos(theta), r * std::sin(theta) * std::sin(phi));
+    };
+    vertex(0.0, 0.0); // north pole: vertex 1
+    for (int ring = 1; ring < rings; ++ring)
+        for (int column = 0; column < columns; ++column)
+            vertex(M_PI * ring / rings, 2.0 * M_PI * column / columns);
+    vertex(M_PI, 0.0); // south pole
+    const int south = 2 + (rings - 1) * columns;
+    auto index = [&](int ring, int column) { return 2 + (ring - 1) * columns + column % columns; };
+    size_t triangles = 0;
+    for (int column = 0; column < columns; ++column) {
+        out << fmt::format("f 1 {} {}\n", index(1, column + 1), index(1, column));
+        out << fmt::format("f {} {} {}\n", south, index(rings - 1, column),
+                           index(rings - 1, column + 1));
+        triangles += 2;
+        for (int ring = 1; ring + 1 < rings; ++ring) {
+            out << fmt::format("f {} {} {}\n", index(ring, column), index(ring, column + 1),
+                               index(ring + 1, column + 1));
+            out << fmt::format("f {} {} {}\n", index(ring, column), index(ring + 1, column + 1),
+                               index(ring + 1, column));
+            triangles += 2;
+        }
+    }
+    std::cout << "triangles " << triangles << "\n";
+}
+
+struct RaySet {
+    std::string name;
+    std::vector<Ray3f> rays;
+    bool occlusion;
+};
+
+/// The three ray sets of the benchmark, each of (about) `count` rays.
+std::vector<RaySet> makeRaySets(size_t count) {
+    std::vector<RaySet> sets;
+    // Primary: pinhole at (0,0,4) looking at the origin, +y up, 60° vertical fov,
+    // a √N×√N grid of pixel-centre rays.
+    const int resolution = static_cast<int>(std::sqrt(static_cast<double>(count)));
+    const float tanHalfFov = std::tan(degToRad(30.0f));
+    RaySet primary{"primary", {}, false};
+    for (int y = 0; y < resolution; ++y)
+        for (int x = 0; x < resolution; ++x) {
+            const float u = (2.0f * (x + 0.5f) / resolution - 1.0f) * tanHalfFov;
+            const float v = (1.0f - 2.0f * (y + 0.5f) / resolution) * tanHalfFov;
+            primary.rays.emplace_back(Point3f(0, 0, 4), Vector3f(u, v, -1.0f).normalized(), 0.0f,
+                                      kInfinity);
+        }
+    sets.push_back(std::move(primary));
+
+    // Incoherent: origin uniform on the sphere of radius 3, aimed at a point uniform in
+    // the unit ball (rejection sampling).
+    PCG32 random(42, 54);
+    RaySet incoherent{"incoherent", {}, false};
+    while (incoherent.rays.size() < count) {
+        const float z = 1.0f - 2.0f * random.nextFloat(), phi = 2.0f * kPi * random.nextFloat();
+        const float r = safeSqrt(1.0f - z * z);
+        const Point3f origin = 3.0f * Point3f(r * std::cos(phi), r * std::sin(phi), z);
+        Point3f target;
+        do {
+            target = Point3f(2.0f * random.nextFloat() - 1.0f, 2.0f * random.nextFloat() - 1.0f,
+                             2.0f * random.nextFloat() - 1.0f);
+        } while (target.squaredNorm() > 1.0f);
+        incoherent.rays.emplace_back(origin, Vector3f(target - origin).normalized(), 0.0f,
+                                     kInfinity);
+    }
+    RaySet shadow{"shadow", incoherent.rays, true};
+    sets.push_back(std::move(incoherent));
+    sets.push_back(std::move(shadow));
+    return sets;
+}
+
+struct Measurement {
+    double seconds = 0.0;
+    size_t hits = 0;
+};
+
+/// Traces every ray in parallel chunks (one thread: a plain loop) and counts hits.
+template <typename Trace> Measurement traceAll(const RaySet &set, Trace &&trace) {
+    std::atomic<size_t> hits{0};
+    const auto start = std::chrono::steady_clock::now();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, set.rays.size(), 1024),
+                      [&](const tbb::blocked_range<size_t> &range) {
+                          size_t local = 0;
+                          for (size_t i = range.begin(); i != range.end(); ++i)
+                              local += trace(set.rays[i], set.occlusion) ? 1 : 0;
+                          hits += local;
+                      });
+    return {secondsSince(start), hits.load()};
+}
+
+/// A mesh loaded through the renderer's own OBJ plugin.
+std::shared_ptr<Mesh> loadMesh(const std::string &filename) {
+    PropertyList props;
+    props.setString("filename", filename);
+    auto object = NoriObjectFactory::createInstance("obj", NoriObject::EMesh, props);
+    object->activate();
+    return std::dynamic_pointer_cast<Mesh>(object);
+}
+
+#ifdef NORI_HAVE_EMBREE
+/// The same mesh in an Embree scene.
+class EmbreeScene {
+public:
+    EmbreeScene(const Mesh &mesh, int threads, double &buildSeconds) {
+        const std::string config = fmt::format("threads={}", threads);
+        m_device = rtcNewDevice(config.c_str());
+        if (!m_device)
+            throw NoriException("Embree: cannot create a device");
+        m_scene = rtcNewScene(m_device);
+        RTCGeometry geometry = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        const auto &positions = mesh.getVertexPositions();
+        const auto &faces = mesh.getFaces();
+        auto *vertices = static_cast<float *>(
+            rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                    3 * sizeof(float), positions.size()));
+        for (size_t i = 0; i < positions.size(); ++i)
+            for (int c = 0; c < 3; ++c)
+                vertices[3 * i + c] = positions[i][c];
+        auto *indices = static_cast<uint32_t *>(
+            rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(uint32_t), faces.size()));
+        for (size_t i = 0; i < faces.size(); ++i)
+            for (int c = 0; c < 3; ++c)
+                indices[3 * i + c] = static_cast<uint32_t>(faces[i][c]);
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometry(m_scene, geometry);
+        rtcReleaseGeometry(geometry);
+        const auto start = std::chrono::steady_clock::now();
+        rtcCommitScene(m_scene);
+        buildSeconds = secondsSince(start);
+    }
+    ~EmbreeScene() {
+        rtcReleaseScene(m_scene);
+        rtcReleaseDevice(m_device);
+    }
+
+    bool trace(const Ray3f &ray, bool occlusion) const {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        RTCRayHit rayHit{};
+        RTCRay &r = rayHit.ray;
+        r.org_x = ray.o.x(), r.org_y = ray.o.y(), r.org_z = ray.o.z();
+        r.dir_x = ray.d.x(), r.dir_y = ray.d.y(), r.dir_z = ray.d.z();
+        r.tnear = ray.mint;
+        r.tfar = ray.maxt;
+        r.mask = ~0u;
+        if (occlusion) {
+            rtcOccluded1(m_scene, &context, &r);
+            return r.tfar < 0.0f; // Embree sets tfar to -inf on a hit
+        }
+        rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(m_scene, &context, &rayHit);
+        return rayHit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+
+private:
+    RTCDevice m_device;
+    RTCScene m_scene;
+};
+#endif
+
+int run(int argc, char **argv) {
+    std::string meshFile;
+    size_t rayCount = 1000000;
+    int threads = 1;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc)
+                throw NoriException("option {} needs a value", arg);
+            return argv[++i];
+        };
+        if (arg == "--make-mesh") {
+            const int triangles = toInt(value(), "--make-mesh");
+            if (i + 1 >= argc || triangles <= 0)
+                throw NoriException("usage: nori-bench --make-mesh <triangles> <out.obj>");
+            writeBumpySphere(static_cast<size_t>(triangles), argv[++i]);
+            return 0;
+        } else if (arg == "--rays") {
+            rayCount = static_cast<size_t>(toInt(value(), "--rays"));
+        } else if (arg == "--threads") {
+            threads = toInt(value(), "--threads");
+        } else if (arg == "-h" || arg == "--help") {
+            std::cout << "usage: nori-bench <mesh.obj> [--rays N] [--threads T]\n"
+                         "       nori-bench --make-mesh <triangles> <out.obj>\n";
+            return 0;
+        } else if (!arg.empty() && arg[0] != '-' && meshFile.empty()) {
+            meshFile = arg;
+        } else {
+            throw NoriException("unexpected argument '{}' (see nori-bench --help)", arg);
+        }
+    }
+    if (meshFile.empty() || rayCount == 0 || threads <= 0)
+        throw NoriException("usage: nori-bench <mesh.obj> [--rays N] [--threads T]");
+
+    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<size_t>(threads));
+    std::shared_ptr<Mesh> mesh = loadMesh(meshFile);
+    const std::vector<RaySet> sets = makeRaySets(rayCount);
+
+    std::cout << "triangles " << mesh->getPrimitiveCount() << "\n";
+    std::cout << "threads " << threads << "\n";
+    std::cout << "rays " << sets.back().rays.size() << "\n";
+
+    Accel accel;
+    accel.addShape(mesh.get());
+    auto start = std::chrono::steady_clock::now();
+    accel.build();
+    const double buildSeconds = secondsSince(start);
+    std::cout << fmt::format("build_s {:.4f}\n", buildSeconds);
+    std::cout << fmt::format("bvh_nodes {}\nbvh_max_depth {}\nbvh_sah_cost {:.2f}\n",
+                             accel.statistics().nodes, accel.statistics().maxDepth,
+                             accel.statistics().sahCost);
+
+    std::vector<Measurement> ours;
+    for (const RaySet &set : sets) {
+        ours.push_back(traceAll(set, [&](const Ray3f &ray, bool occlusion) {
+            Intersection its;
+            return accel.rayIntersect(ray, its, occlusion);
+        }));
+        std::cout << fmt::format("{}_mrays {:.3f}\n{}_hits {}\n", set.name,
+                                 set.rays.size() / ours.back().seconds * 1e-6, set.name,
+                                 ours.back().hits);
+    }
+
+#ifdef NORI_HAVE_EMBREE
+    double embreeBuild = 0.0;
+    EmbreeScene embree(*mesh, threads, embreeBuild);
+    std::cout << fmt::format("embree_build_s {:.4f}\nbuild_ratio {:.3f}\n", embreeBuild,
+                             buildSeconds / embreeBuild);
+    for (size_t i = 0; i < sets.size(); ++i) {
+        Measurement theirs = traceAll(sets[i], [&](const Ray3f &ray, bool occlusion) {
+            return embree.trace(ray, occlusion);
+        });
+        std::cout << fmt::format("embree_{}_mrays {:.3f}\nembree_{}_hits {}\n{}_ratio {:.3f}\n",
+                                 sets[i].name, sets[i].rays.size() / theirs.seconds * 1e-6,
+                                 sets[i].name, theirs.hits, sets[i].name,
+                                 theirs.seconds / ours[i].seconds);
+    }
+#else
+    std::cout << "embree not available (install libembree-dev and rebuild to compare)\n";
+#endif
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+    try {
+        return run(argc, argv);
+    } catch (const std::exception &error) {
+        std::cerr << "Error: " << error.what() << "\n";
+        return 1;
+    }
+}
