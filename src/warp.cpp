@@ -2,13 +2,50 @@
 
 namespace nori {
 
+namespace {
+
+/// A unit vector from cos θ and φ about +z.
+Vector3f sphericalDirection(float cosTheta, float phi) {
+    const float sinTheta = safeSqrt(1.0f - cosTheta * cosTheta);
+    return Vector3f(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+}
+
+/// Whether v is (up to round-off) a unit vector; densities are 0 off the sphere.
+bool isUnit(const Vector3f &v) {
+    return std::abs(v.squaredNorm() - 1.0f) < 1e-3f;
+}
+
+/// Inverse of the 1D tent's CDF on [-1, 1].
+float tent1D(float u) {
+    return u < 0.5f ? std::sqrt(2.0f * u) - 1.0f : 1.0f - std::sqrt(2.0f - 2.0f * u);
+}
+
+} // namespace
+
 float Warp::squareToUniformSquarePdf(const Point2f &p) {
     return (p.array() >= 0.0f).all() && (p.array() <= 1.0f).all() ? 1.0f : 0.0f;
 }
 
+Point2f Warp::squareToTent(const Point2f &sample) {
+    return Point2f(tent1D(sample.x()), tent1D(sample.y()));
+}
+
+float Warp::squareToTentPdf(const Point2f &p) {
+    return std::max(0.0f, 1.0f - std::abs(p.x())) * std::max(0.0f, 1.0f - std::abs(p.y()));
+}
+
+Point2f Warp::squareToUniformDisk(const Point2f &sample) {
+    const float r = std::sqrt(sample.x()), phi = 2.0f * kPi * sample.y();
+    return Point2f(r * std::cos(phi), r * std::sin(phi));
+}
+
+float Warp::squareToUniformDiskPdf(const Point2f &p) {
+    return p.squaredNorm() <= 1.0f ? kInvPi : 0.0f;
+}
+
 Point2f Warp::squareToUniformDiskConcentric(const Point2f &sample) {
     // Shirley & Chiu 1997: map concentric squares to concentric circles.
-    Point2f offset(2.0f * sample.x() - 1.0f, 2.0f * sample.y() - 1.0f);
+    const Point2f offset(2.0f * sample.x() - 1.0f, 2.0f * sample.y() - 1.0f);
     if (offset.x() == 0.0f && offset.y() == 0.0f)
         return Point2f(0.0f, 0.0f);
     float r, theta;
@@ -23,18 +60,119 @@ Point2f Warp::squareToUniformDiskConcentric(const Point2f &sample) {
 }
 
 float Warp::squareToUniformDiskConcentricPdf(const Point2f &p) {
-    return p.squaredNorm() <= 1.0f ? kInvPi : 0.0f;
+    return squareToUniformDiskPdf(p);
+}
+
+Vector3f Warp::squareToUniformSphere(const Point2f &sample) {
+    return sphericalDirection(1.0f - 2.0f * sample.x(), 2.0f * kPi * sample.y());
+}
+
+float Warp::squareToUniformSpherePdf(const Vector3f &v) {
+    return isUnit(v) ? kInvFourPi : 0.0f;
+}
+
+Vector3f Warp::squareToUniformHemisphere(const Point2f &sample) {
+    return sphericalDirection(sample.x(), 2.0f * kPi * sample.y());
+}
+
+float Warp::squareToUniformHemispherePdf(const Vector3f &v) {
+    return isUnit(v) && v.z() >= 0.0f ? kInvTwoPi : 0.0f;
 }
 
 Vector3f Warp::squareToCosineHemisphere(const Point2f &sample) {
     // Malley: a uniform point on the disk lifted to the hemisphere is cosine distributed.
-    Point2f d = squareToUniformDiskConcentric(sample);
-    float z = safeSqrt(1.0f - d.squaredNorm());
-    return Vector3f(d.x(), d.y(), z);
+    const Point2f d = squareToUniformDiskConcentric(sample);
+    return Vector3f(d.x(), d.y(), safeSqrt(1.0f - d.squaredNorm()));
 }
 
 float Warp::squareToCosineHemispherePdf(const Vector3f &v) {
-    return v.z() > 0.0f ? v.z() * kInvPi : 0.0f;
+    return isUnit(v) && v.z() >= 0.0f ? v.z() * kInvPi : 0.0f;
+}
+
+Vector3f Warp::squareToUniformSphereCap(const Point2f &sample, float cosThetaMax) {
+    // cos θ is uniform on [cosThetaMax, 1] (a cap's area is linear in cos θ).
+    return sphericalDirection(1.0f - sample.x() * (1.0f - cosThetaMax), 2.0f * kPi * sample.y());
+}
+
+float Warp::squareToUniformSphereCapPdf(const Vector3f &v, float cosThetaMax) {
+    if (!isUnit(v) || v.z() < cosThetaMax)
+        return 0.0f;
+    return kInvTwoPi / (1.0f - cosThetaMax);
+}
+
+Vector3f Warp::squareToBeckmann(const Point2f &sample, float alpha) {
+    // Inverting the CDF of tan²θ: tan²θ = −α² ln(1 − u).
+    const float tan2Theta = -alpha * alpha * std::log1p(-sample.x());
+    const float cosTheta = 1.0f / std::sqrt(1.0f + tan2Theta);
+    return sphericalDirection(cosTheta, 2.0f * kPi * sample.y());
+}
+
+float Warp::squareToBeckmannPdf(const Vector3f &m, float alpha) {
+    const float cos2Theta = m.z() * m.z();
+    // Below cos²θ ~ 1e-20, D has underflowed to 0 (and the formula would give 0/0).
+    if (!isUnit(m) || m.z() <= 0.0f || cos2Theta < 1e-20f)
+        return 0.0f;
+    const float tan2Theta = (1.0f - cos2Theta) / cos2Theta;
+    const float d =
+        std::exp(-tan2Theta / (alpha * alpha)) / (kPi * alpha * alpha * cos2Theta * cos2Theta);
+    return d * m.z();
+}
+
+Vector3f Warp::squareToGGX(const Point2f &sample, float alpha) {
+    // Inverting the CDF of tan²θ: tan²θ = α² u/(1 − u).
+    const float tan2Theta = alpha * alpha * sample.x() / (1.0f - sample.x());
+    const float cosTheta = 1.0f / std::sqrt(1.0f + tan2Theta);
+    return sphericalDirection(cosTheta, 2.0f * kPi * sample.y());
+}
+
+float Warp::squareToGGXPdf(const Vector3f &m, float alpha) {
+    if (!isUnit(m) || m.z() <= 0.0f)
+        return 0.0f;
+    // D = α²/(π cos⁴θ (α² + tan²θ)²) = α²/(π ((α² − 1) cos²θ + 1)²), the second form
+    // being finite at grazing angles.
+    const float alpha2 = alpha * alpha;
+    const float root = (alpha2 - 1.0f) * m.z() * m.z() + 1.0f;
+    const float d = alpha2 / (kPi * root * root);
+    return d * m.z();
+}
+
+Vector3f Warp::squareToGTR1(const Point2f &sample, float alpha) {
+    const float alpha2 = alpha * alpha;
+    // Burley 2012, B.2: cos²θ = (1 − α^{2(1−u)})/(1 − α²); α → 1 is the cosine lobe.
+    const float cos2Theta = std::abs(1.0f - alpha2) < 1e-4f
+                                ? 1.0f - sample.x()
+                                : (1.0f - std::pow(alpha2, 1.0f - sample.x())) / (1.0f - alpha2);
+    return sphericalDirection(safeSqrt(cos2Theta), 2.0f * kPi * sample.y());
+}
+
+float Warp::squareToGTR1Pdf(const Vector3f &m, float alpha) {
+    if (!isUnit(m) || m.z() <= 0.0f)
+        return 0.0f;
+    const float alpha2 = alpha * alpha;
+    const float d =
+        std::abs(1.0f - alpha2) < 1e-4f
+            ? kInvPi
+            : (alpha2 - 1.0f) / (kPi * std::log(alpha2) * (1.0f + (alpha2 - 1.0f) * m.z() * m.z()));
+    return d * m.z();
+}
+
+Vector3f Warp::squareToHenyeyGreenstein(const Point2f &sample, float g) {
+    float cosTheta;
+    if (std::abs(g) < 1e-3f) {
+        cosTheta = 1.0f - 2.0f * sample.x();
+    } else {
+        // Inverse CDF of HG in cos θ (PBR 3rd ed. eq. 15.7, for directions about +z).
+        const float square = (1.0f - g * g) / (1.0f - g + 2.0f * g * sample.x());
+        cosTheta = std::clamp((1.0f + g * g - square * square) / (2.0f * g), -1.0f, 1.0f);
+    }
+    return sphericalDirection(cosTheta, 2.0f * kPi * sample.y());
+}
+
+float Warp::squareToHenyeyGreensteinPdf(const Vector3f &v, float g) {
+    if (!isUnit(v))
+        return 0.0f;
+    const float denominator = 1.0f + g * g - 2.0f * g * v.z();
+    return kInvFourPi * (1.0f - g * g) / (denominator * std::sqrt(denominator));
 }
 
 } // namespace nori

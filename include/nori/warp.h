@@ -1,4 +1,6 @@
-// Warps from the unit square to other domains, each with its density.
+// Warps from the unit square to other domains, each with its density (PBR 4th ed. §A.5,
+// Nori's warp.h). Densities are with respect to area for planar warps and solid angle
+// for directions; a point outside the warp's domain has density 0.
 #pragma once
 
 #include <nori/vector.h>
@@ -7,17 +9,58 @@ namespace nori {
 
 class Warp {
 public:
-    /// Identity warp; density 1 on [0,1)^2.
+    /// Identity on [0,1)²; density 1.
     static Point2f squareToUniformSquare(const Point2f &sample) { return sample; }
     static float squareToUniformSquarePdf(const Point2f &p);
 
-    /// Shirley–Chiu concentric map of the square onto the unit disk (equal area).
+    /// Separable tent on [-1,1]²: density (1 − |x|)(1 − |y|).
+    static Point2f squareToTent(const Point2f &sample);
+    static float squareToTentPdf(const Point2f &p);
+
+    /// Uniform on the unit disk by the polar map r = √u, φ = 2πv; density 1/π.
+    static Point2f squareToUniformDisk(const Point2f &sample);
+    static float squareToUniformDiskPdf(const Point2f &p);
+
+    /// Shirley–Chiu concentric map onto the unit disk (equal area); density 1/π.
     static Point2f squareToUniformDiskConcentric(const Point2f &sample);
     static float squareToUniformDiskConcentricPdf(const Point2f &p);
 
-    /// Cosine-weighted hemisphere about +z via Malley's method (PBR 4th ed. §A.5.3).
+    /// Uniform on the unit sphere: z = 1 − 2u (Archimedes); density 1/4π.
+    static Vector3f squareToUniformSphere(const Point2f &sample);
+    static float squareToUniformSpherePdf(const Vector3f &v);
+
+    /// Uniform on the hemisphere z ≥ 0; density 1/2π.
+    static Vector3f squareToUniformHemisphere(const Point2f &sample);
+    static float squareToUniformHemispherePdf(const Vector3f &v);
+
+    /// Cosine-weighted hemisphere about +z via Malley's method; density cos θ/π.
     static Vector3f squareToCosineHemisphere(const Point2f &sample);
     static float squareToCosineHemispherePdf(const Vector3f &v);
+
+    /// Uniform on the spherical cap cos θ ≥ cosThetaMax about +z; density
+    /// 1/(2π(1 − cosThetaMax)).
+    static Vector3f squareToUniformSphereCap(const Point2f &sample, float cosThetaMax);
+    static float squareToUniformSphereCapPdf(const Vector3f &v, float cosThetaMax);
+
+    /// Beckmann microfacet normals, density D(m) cos θm with
+    /// D = exp(−tan²θ/α²)/(π α² cos⁴θ) (Walter et al. 2007, eq. 25, 28).
+    static Vector3f squareToBeckmann(const Point2f &sample, float alpha);
+    static float squareToBeckmannPdf(const Vector3f &m, float alpha);
+
+    /// GGX (Trowbridge–Reitz) microfacet normals, density D(m) cos θm with
+    /// D = α²/(π cos⁴θ (α² + tan²θ)²) (Walter et al. 2007, eq. 33, 35).
+    static Vector3f squareToGGX(const Point2f &sample, float alpha);
+    static float squareToGGXPdf(const Vector3f &m, float alpha);
+
+    /// GTR1, Burley's clearcoat lobe: D = (α² − 1)/(π ln(α²) (1 + (α² − 1) cos²θ)), density
+    /// D cos θ (Burley 2012, "Physically-Based Shading at Disney", appendix B.2).
+    static Vector3f squareToGTR1(const Point2f &sample, float alpha);
+    static float squareToGTR1Pdf(const Vector3f &m, float alpha);
+
+    /// Henyey–Greenstein directions about +z, density
+    /// (1 − g²)/(4π (1 + g² − 2g cos θ)^{3/2}) (PBR 4th ed. §11.3.1).
+    static Vector3f squareToHenyeyGreenstein(const Point2f &sample, float g);
+    static float squareToHenyeyGreensteinPdf(const Vector3f &v, float g);
 };
 
 } // namespace nori

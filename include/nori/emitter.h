@@ -1,0 +1,52 @@
+// Light sources. Directions are in world space; `wi` points from the reference point
+// toward the light.
+#pragma once
+
+#include <nori/color.h>
+#include <nori/object.h>
+#include <nori/ray.h>
+
+namespace nori {
+
+class Shape;
+
+struct EmitterQueryRecord {
+    Point3f ref;      ///< the point being lit
+    Point3f p;        ///< sampled (or queried) point on the emitter
+    Normal3f n;       ///< surface normal at p (area lights)
+    Vector3f wi;      ///< unit direction from ref toward p
+    float pdf = 0.0f; ///< solid-angle density of wi at ref (for delta lights: 1)
+    Ray3f shadowRay;  ///< from ref to p, for the visibility test
+
+    EmitterQueryRecord() = default;
+    explicit EmitterQueryRecord(const Point3f &ref) : ref(ref) {}
+    EmitterQueryRecord(const Point3f &ref, const Point3f &p, const Normal3f &n)
+        : ref(ref), p(p), n(n), wi((p - ref).normalized()) {}
+};
+
+class Emitter : public NoriObject {
+public:
+    static constexpr EClassType kClassType = EEmitter;
+
+    /// Samples a point on the light as seen from lRec.ref; fills p, n, wi, pdf and
+    /// shadowRay and returns radiance / pdf (zero when sampling fails).
+    virtual Color3f sample(EmitterQueryRecord &lRec, const Point2f &sample) const = 0;
+    /// Radiance leaving p toward ref (lRec.p, n and wi set).
+    virtual Color3f eval(const EmitterQueryRecord &lRec) const = 0;
+    /// Solid-angle density at ref of sampling lRec.wi (p and n set when the emitter has a
+    /// shape, so the χ² test can query directions).
+    virtual float pdf(const EmitterQueryRecord &lRec) const = 0;
+    /// Lights with a delta distribution (point, spot, distant) cannot be hit by rays.
+    virtual bool isDelta() const { return false; }
+
+    /// The shape an area light is attached to, or nullptr.
+    const Shape *getShape() const { return m_shape; }
+    void setShape(const Shape *shape) { m_shape = shape; }
+
+    EClassType getClassType() const override { return kClassType; }
+
+protected:
+    const Shape *m_shape = nullptr;
+};
+
+} // namespace nori

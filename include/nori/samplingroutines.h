@@ -1,0 +1,35 @@
+// Sampling routines ready for the χ² test: every warp by name, and the direction
+// sampling of a BSDF, a phase function or an emitter.
+#pragma once
+
+#include <nori/chisquare.h>
+
+namespace nori {
+
+class BSDF;
+class PhaseFunction;
+class Emitter;
+
+/// A warp of warp.h, by name, with its parameter (if it has one).
+struct NamedWarp {
+    std::string name;
+    std::string parameterName; ///< "" for warps without a parameter
+    float defaultParameter = 0.0f;
+    std::function<SamplingRoutine(float parameter)> routine;
+};
+
+/// All warps of warp.h.
+const std::vector<NamedWarp> &namedWarps();
+/// The warp called `name`; throws NoriException (with a did-you-mean) otherwise.
+const NamedWarp &findWarp(const std::string &name);
+
+/// wo sampled by bsdf.sample() for the incident direction wi (local frame), against
+/// bsdf.pdf(). Discrete lobes and failed samples are not binned.
+SamplingRoutine bsdfRoutine(const BSDF &bsdf, const Vector3f &wi);
+/// wo sampled by phase.sample() for wi, against phase.pdf().
+SamplingRoutine phaseRoutine(const PhaseFunction &phase, const Vector3f &wi);
+/// Directions toward the light sampled from `ref`, against emitter.pdf(). For an area
+/// light the queried direction is traced to its shape to find p and n.
+SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref);
+
+} // namespace nori

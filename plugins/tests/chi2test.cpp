@@ -1,0 +1,137 @@
+/*
+ * chi2test — Pearson's χ² test that sample() draws from pdf(), in Nori 2's format, for
+ * every nested BSDF, phase function and emitter. Each is tested `testCount` times (BSDFs
+ * and phase functions for random incident directions, emitters from random reference
+ * points); the significance level is Šidák-corrected over all tests.
+ *
+ * Parameters:
+ *   significanceLevel  float    0.01   probability of rejecting a correct sampler
+ *   resolution         integer  10     bins in cos θ (φ gets twice as many)
+ *   minExpFrequency    integer  5      bins expecting fewer samples are pooled
+ *   sampleCount        integer  5000 per bin
+ *   testCount          integer  5      tests per plugin
+ *   seed               integer  0      seed of the test's random numbers
+ *
+ *   <test type="chi2test">
+ *       <bsdf type="diffuse"/>
+ *   </test>
+ */
+#include <nori/bsdf.h>
+#include <nori/emitter.h>
+#include <nori/pcg32.h>
+#include <nori/phase.h>
+#include <nori/samplingroutines.h>
+#include <nori/shape.h>
+#include <nori/test.h>
+#include <nori/warp.h>
+
+#include <iostream>
+
+namespace nori {
+
+class ChiSquareTestPlugin : public Test {
+public:
+    explicit ChiSquareTestPlugin(const PropertyList &props) {
+        m_options.significanceLevel = props.getFloat("significanceLevel", 0.01f);
+        m_options.resolution = props.getInteger("resolution", 10);
+        m_options.minExpFrequency = props.getInteger("minExpFrequency", 5);
+        const int sampleCount = props.getInteger("sampleCount", -1);
+        m_testCount = props.getInteger("testCount", 5);
+        m_options.seed = static_cast<uint64_t>(props.getInteger("seed", 0));
+        if (!(m_options.significanceLevel > 0.0 && m_options.significanceLevel < 1.0))
+            throw NoriException("chi2test: 'significanceLevel' must lie in (0, 1), got {}",
+                                m_options.significanceLevel);
+        if (m_options.resolution < 2 || m_testCount < 1)
+            throw NoriException("chi2test: need resolution >= 2 and testCount >= 1");
+        // Nori's default: 5000 samples per bin of the cos θ × φ grid.
+        m_options.sampleCount =
+            sampleCount > 0
+                ? static_cast<size_t>(sampleCount)
+                : static_cast<size_t>(2 * m_options.resolution * m_options.resolution) * 5000;
+    }
+
+    void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override {
+        switch (child->getClassType()) {
+        case EBSDF:
+        case EPhaseFunction:
+        case EEmitter:
+            m_subjects.push_back(child);
+            break;
+        default:
+            NoriObject::addChild(child, name);
+        }
+    }
+
+    void activate() override {
+        if (m_subjects.empty())
+            throw NoriException("chi2test: nothing to test (nest a <bsdf>, <phase> or <emitter>)");
+    }
+
+    bool run() override {
+        const int total = static_cast<int>(m_subjects.size()) * m_testCount;
+        ChiSquareOptions options = m_options;
+        options.significanceLevel = sidakCorrection(m_options.significanceLevel, total);
+        PCG32 random(m_options.seed, 0xC0FFEE);
+        int passed = 0;
+        for (const auto &subject : m_subjects) {
+            for (int i = 0; i < m_testCount; ++i) {
+                std::string what;
+                SamplingRoutine routine = routineFor(*subject, random, what);
+                options.seed = random.nextUInt();
+                const ChiSquareReport report = runChiSquareTest(routine, options);
+                std::cout << fmt::format("chi2test {}: {}\n", what, report.result.message);
+                passed += report.result.passed ? 1 : 0;
+            }
+        }
+        std::cout << fmt::format("chi2test: {}/{} passed (significance {:g} over all tests)\n",
+                                 passed, total, m_options.significanceLevel);
+        return passed == total;
+    }
+
+    std::string toString() const override {
+        return fmt::format("ChiSquareTest[significanceLevel={}, resolution={}, "
+                           "minExpFrequency={}, sampleCount={}, testCount={}]",
+                           m_options.significanceLevel, m_options.resolution,
+                           m_options.minExpFrequency, m_options.sampleCount, m_testCount);
+    }
+
+private:
+    /// The routine of one test of `subject`, with a random incident direction or
+    /// reference point; `what` describes it for the report.
+    SamplingRoutine routineFor(const NoriObject &subject, PCG32 &random, std::string &what) const {
+        const Point2f u(random.nextFloat(), random.nextFloat());
+        if (subject.getClassType() == EBSDF) {
+            // Incident directions in the upper hemisphere, cos θ uniform (as Nori).
+            const Vector3f wi = Warp::squareToUniformHemisphere(u);
+            what = fmt::format("{} for wi = ({:.3f}, {:.3f}, {:.3f})", subject.toString(), wi.x(),
+                               wi.y(), wi.z());
+            return bsdfRoutine(static_cast<const BSDF &>(subject), wi);
+        }
+        if (subject.getClassType() == EPhaseFunction) {
+            const Vector3f wi = Warp::squareToUniformSphere(u);
+            what = fmt::format("{} for wi = ({:.3f}, {:.3f}, {:.3f})", subject.toString(), wi.x(),
+                               wi.y(), wi.z());
+            return phaseRoutine(static_cast<const PhaseFunction &>(subject), wi);
+        }
+        // Emitters: reference points on a sphere twice the size of the light's bounds.
+        const auto &emitter = static_cast<const Emitter &>(subject);
+        Point3f center(0.0f);
+        float radius = 1.0f;
+        if (const Shape *shape = emitter.getShape()) {
+            center = shape->getBoundingBox().getCenter();
+            radius = std::max(shape->getBoundingBox().getExtents().norm(), 1e-3f);
+        }
+        const Point3f ref = center + 2.0f * radius * Warp::squareToUniformSphere(u);
+        what = fmt::format("{} from ref = ({:.3f}, {:.3f}, {:.3f})", subject.toString(), ref.x(),
+                           ref.y(), ref.z());
+        return emitterRoutine(emitter, ref);
+    }
+
+    ChiSquareOptions m_options;
+    int m_testCount;
+    std::vector<std::shared_ptr<NoriObject>> m_subjects;
+};
+
+NORI_REGISTER_CLASS(ChiSquareTestPlugin, "chi2test");
+
+} // namespace nori

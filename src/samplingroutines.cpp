@@ -1,0 +1,183 @@
+#include <nori/bsdf.h>
+#include <nori/emitter.h>
+#include <nori/phase.h>
+#include <nori/samplingroutines.h>
+#include <nori/shape.h>
+#include <nori/strutil.h>
+#include <nori/warp.h>
+
+namespace nori {
+
+namespace {
+
+SamplingRoutine planar(SampleDomain domain, Point2f (*warp)(const Point2f &),
+                       float (*pdf)(const Point2f &)) {
+    SamplingRoutine routine;
+    routine.domain = domain;
+    routine.sample = [warp](const Point2f &u, Vector3f &point) {
+        const Point2f p = warp(u);
+        point = Vector3f(p.x(), p.y(), 0.0f);
+        return true;
+    };
+    routine.pdf = [pdf](const Vector3f &point) { return pdf(Point2f(point.x(), point.y())); };
+    return routine;
+}
+
+SamplingRoutine spherical(Vector3f (*warp)(const Point2f &), float (*pdf)(const Vector3f &)) {
+    SamplingRoutine routine;
+    routine.sample = [warp](const Point2f &u, Vector3f &point) {
+        point = warp(u);
+        return true;
+    };
+    routine.pdf = [pdf](const Vector3f &v) { return pdf(v); };
+    return routine;
+}
+
+SamplingRoutine parametric(Vector3f (*warp)(const Point2f &, float),
+                           float (*pdf)(const Vector3f &, float), float parameter) {
+    SamplingRoutine routine;
+    routine.sample = [warp, parameter](const Point2f &u, Vector3f &point) {
+        point = warp(u, parameter);
+        return true;
+    };
+    routine.pdf = [pdf, parameter](const Vector3f &v) { return pdf(v, parameter); };
+    return routine;
+}
+
+} // namespace
+
+const std::vector<NamedWarp> &namedWarps() {
+    static const std::vector<NamedWarp> warps = {
+        {"square", "", 0.0f,
+         [](float) {
+             return planar(SampleDomain::UnitSquare, Warp::squareToUniformSquare,
+                           Warp::squareToUniformSquarePdf);
+         }},
+        {"tent", "", 0.0f,
+         [](float) {
+             return planar(SampleDomain::CenteredSquare, Warp::squareToTent, Warp::squareToTentPdf);
+         }},
+        {"disk", "", 0.0f,
+         [](float) {
+             return planar(SampleDomain::CenteredSquare, Warp::squareToUniformDisk,
+                           Warp::squareToUniformDiskPdf);
+         }},
+        {"disk_concentric", "", 0.0f,
+         [](float) {
+             return planar(SampleDomain::CenteredSquare, Warp::squareToUniformDiskConcentric,
+                           Warp::squareToUniformDiskConcentricPdf);
+         }},
+        {"uniform_sphere", "", 0.0f,
+         [](float) {
+             return spherical(Warp::squareToUniformSphere, Warp::squareToUniformSpherePdf);
+         }},
+        {"uniform_hemisphere", "", 0.0f,
+         [](float) {
+             return spherical(Warp::squareToUniformHemisphere, Warp::squareToUniformHemispherePdf);
+         }},
+        {"cosine_hemisphere", "", 0.0f,
+         [](float) {
+             return spherical(Warp::squareToCosineHemisphere, Warp::squareToCosineHemispherePdf);
+         }},
+        {"sphere_cap", "cosThetaMax", 0.5f,
+         [](float cosThetaMax) {
+             return parametric(Warp::squareToUniformSphereCap, Warp::squareToUniformSphereCapPdf,
+                               cosThetaMax);
+         }},
+        {"beckmann", "alpha", 0.3f,
+         [](float alpha) {
+             return parametric(Warp::squareToBeckmann, Warp::squareToBeckmannPdf, alpha);
+         }},
+        {"ggx", "alpha", 0.3f,
+         [](float alpha) { return parametric(Warp::squareToGGX, Warp::squareToGGXPdf, alpha); }},
+        {"gtr1", "alpha", 0.3f,
+         [](float alpha) { return parametric(Warp::squareToGTR1, Warp::squareToGTR1Pdf, alpha); }},
+        {"hg", "g", 0.5f,
+         [](float g) {
+             return parametric(Warp::squareToHenyeyGreenstein, Warp::squareToHenyeyGreensteinPdf,
+                               g);
+         }},
+    };
+    return warps;
+}
+
+const NamedWarp &findWarp(const std::string &name) {
+    std::vector<std::string> names;
+    for (const NamedWarp &warp : namedWarps()) {
+        if (warp.name == name)
+            return warp;
+        names.push_back(warp.name);
+    }
+    throw NoriException("unknown warp '{}'{} (warps: {})", name, didYouMean(name, names),
+                        fmt::join(names, ", "));
+}
+
+SamplingRoutine bsdfRoutine(const BSDF &bsdf, const Vector3f &wi) {
+    SamplingRoutine routine;
+    routine.sample = [&bsdf, wi](const Point2f &u, Vector3f &wo) {
+        BSDFQueryRecord bRec(wi);
+        const Color3f weight = bsdf.sample(bRec, u);
+        if ((weight == 0.0f).all() || bRec.measure == EDiscrete)
+            return false;
+        wo = bRec.wo;
+        return true;
+    };
+    routine.pdf = [&bsdf, wi](const Vector3f &wo) {
+        return bsdf.pdf(BSDFQueryRecord(wi, wo, ESolidAngle));
+    };
+    return routine;
+}
+
+SamplingRoutine phaseRoutine(const PhaseFunction &phase, const Vector3f &wi) {
+    SamplingRoutine routine;
+    routine.sample = [&phase, wi](const Point2f &u, Vector3f &wo) {
+        PhaseFunctionQueryRecord pRec(wi);
+        const Color3f weight = phase.sample(pRec, u);
+        if ((weight == 0.0f).all() || pRec.measure == EDiscrete)
+            return false;
+        wo = pRec.wo;
+        return true;
+    };
+    routine.pdf = [&phase, wi](const Vector3f &wo) {
+        return phase.pdf(PhaseFunctionQueryRecord(wi, wo, ESolidAngle));
+    };
+    return routine;
+}
+
+SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref) {
+    SamplingRoutine routine;
+    routine.sample = [&emitter, ref](const Point2f &u, Vector3f &wi) {
+        EmitterQueryRecord lRec(ref);
+        if ((emitter.sample(lRec, u) == 0.0f).all())
+            return false;
+        wi = lRec.wi;
+        return true;
+    };
+    routine.pdf = [&emitter, ref](const Vector3f &wi) -> double {
+        EmitterQueryRecord lRec(ref);
+        lRec.wi = wi;
+        if (const Shape *shape = emitter.getShape()) {
+            // Find where the direction meets the light's shape (closest primitive).
+            const Ray3f ray(ref, wi, 0.0f, kInfinity);
+            float tBest = kInfinity;
+            for (uint32_t i = 0; i < shape->getPrimitiveCount(); ++i) {
+                float t;
+                Point2f coords;
+                if (!shape->rayIntersect(i, ray, t, coords) || t >= tBest)
+                    continue;
+                tBest = t;
+                Intersection its;
+                its.t = t;
+                shape->setHitInformation(i, ray, coords, its);
+                lRec.p = its.p;
+                lRec.n = its.geoFrame.n;
+            }
+            if (tBest == kInfinity)
+                return 0.0;
+        }
+        return emitter.pdf(lRec);
+    };
+    return routine;
+}
+
+} // namespace nori
