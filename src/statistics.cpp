@@ -102,6 +102,12 @@ double incompleteGammaP(double a, double x) {
     return x < a + 1.0 ? gammaSeries(a, x) : 1.0 - gammaContinuedFraction(a, x);
 }
 
+double incompleteGammaQ(double a, double x) {
+    if (x <= 0.0)
+        return 1.0;
+    return x < a + 1.0 ? 1.0 - gammaSeries(a, x) : gammaContinuedFraction(a, x);
+}
+
 double incompleteBeta(double a, double b, double x) {
     if (x <= 0.0)
         return 0.0;
@@ -190,7 +196,8 @@ ChiSquareResult pearsonChiSquareTest(const std::vector<double> &observed,
                          "the sample count or lower the resolution)";
         return result;
     }
-    result.pValue = 1.0 - chiSquareCdf(result.statistic, result.degreesOfFreedom);
+    // The upper tail of χ²: Q(k/2, x/2).
+    result.pValue = incompleteGammaQ(0.5 * result.degreesOfFreedom, 0.5 * result.statistic);
     result.passed = result.pValue > significanceLevel;
     result.message = fmt::format(
         "chi^2 = {:.2f} with {} degrees of freedom ({} sparse cells pooled): p-value {:.4g} {} "
@@ -212,7 +219,9 @@ StudentTResult studentTTest(double mean, double variance, size_t sampleCount, do
         result.pValue = result.passed ? 1.0 : 0.0;
     } else {
         result.t = (mean - reference) / standardError;
-        result.pValue = 2.0 * (1.0 - studentTCdf(std::abs(result.t), n - 1.0));
+        // Two-sided: P(|T| > |t|) = I_{ν/(ν+t²)}(ν/2, 1/2), without cancellation.
+        const double nu = n - 1.0;
+        result.pValue = incompleteBeta(0.5 * nu, 0.5, nu / (nu + result.t * result.t));
         result.passed = result.pValue > significanceLevel;
     }
     result.message = fmt::format("mean {:.6g} vs reference {:.6g} (standard error {:.3g}, t = "

@@ -51,6 +51,9 @@ TEST_CASE("Distribution functions match published tables", "[statistics]") {
     // Closed forms: P(1, x) = 1 − e^{−x}; I_x(a, 1) = x^a.
     CHECK(incompleteGammaP(1.0, 2.5) == Approx(1.0 - std::exp(-2.5)).epsilon(1e-12));
     CHECK(incompleteGammaP(3.0, 40.0) == Approx(1.0).epsilon(1e-12));
+    // Q(a, x) in the far tail: Q(1, x) = e^{−x}, which 1 − P would round to 0.
+    CHECK(incompleteGammaQ(1.0, 800.0) == Approx(std::exp(-800.0)).epsilon(1e-9));
+    CHECK(incompleteGammaQ(2.5, 1.0) == Approx(1.0 - incompleteGammaP(2.5, 1.0)).epsilon(1e-12));
     CHECK(incompleteBeta(2.5, 1.0, 0.3) == Approx(std::pow(0.3, 2.5)).epsilon(1e-12));
     CHECK(incompleteBeta(0.5, 0.5, 0.5) == Approx(0.5).epsilon(1e-12));
     // Šidák: 1 − (1 − α)^{1/n}.
@@ -101,6 +104,16 @@ TEST_CASE("Every warp draws from its pdf", "[statistics][warp]") {
     }
 }
 
+TEST_CASE("Negative controls: every warp's test rejects a pdf off by a factor 0.9",
+          "[statistics][negative]") {
+    for (const NamedWarp &warp : namedWarps()) {
+        SamplingRoutine wrong = warp.routine(warp.defaultParameter);
+        const auto pdf = wrong.pdf;
+        wrong.pdf = [pdf](const Vector3f &p) { return 0.9 * pdf(p); };
+        expectRejected(warp.name + " with its pdf scaled by 0.9", wrong);
+    }
+}
+
 TEST_CASE("Negative controls: the χ² test rejects wrong warps", "[statistics][negative]") {
     SamplingRoutine missingJacobian;
     missingJacobian.domain = SampleDomain::CenteredSquare;
@@ -138,6 +151,22 @@ TEST_CASE("Negative controls: the χ² test rejects wrong warps", "[statistics][
     SamplingRoutine ggxAsBeckmann = findWarp("ggx").routine(0.3f);
     ggxAsBeckmann.pdf = [](const Vector3f &m) { return Warp::squareToBeckmannPdf(m, 0.3f); };
     expectRejected("GGX samples against the Beckmann pdf", ggxAsBeckmann);
+
+    SamplingRoutine wrongTent = findWarp("tent").routine(0.0f);
+    wrongTent.sample = [](const Point2f &u, Vector3f &p) {
+        // A triangle-shaped density needs the inverse CDF; 2u − 1 is uniform instead.
+        p = Vector3f(2.0f * u.x() - 1.0f, Warp::squareToTent(u).y(), 0.0f);
+        return true;
+    };
+    expectRejected("tent sampled uniformly along x", wrongTent);
+
+    SamplingRoutine capFullSphere = findWarp("sphere_cap").routine(0.5f);
+    capFullSphere.pdf = [](const Vector3f &v) { return Warp::squareToUniformSpherePdf(v); };
+    expectRejected("sphere cap against the full sphere's pdf", capFullSphere);
+
+    SamplingRoutine gtr1AsGgx = findWarp("gtr1").routine(0.3f);
+    gtr1AsGgx.pdf = [](const Vector3f &m) { return Warp::squareToGGXPdf(m, 0.3f); };
+    expectRejected("GTR1 samples against the GGX pdf", gtr1AsGgx);
 
     SamplingRoutine outside = findWarp("square").routine(0.0f);
     outside.sample = [](const Point2f &u, Vector3f &p) {
@@ -204,9 +233,19 @@ TEST_CASE("Distribution1D and Distribution2D sample their piecewise-constant den
     options.resolution = 20; // bins nest in the 5 cells
     CHECK(runChiSquareTest(continuous, options).result.passed);
 
+    // Negative control: the pdf of other weights (two cells swapped).
+    const Distribution1D swapped({0.5f, 1.0f, 0.0f, 2.0f, 4.0f});
+    SamplingRoutine wrongLine = continuous;
+    wrongLine.pdf = [&](const Vector3f &p) { return swapped.pdf(p.x()); };
+    const ChiSquareReport wrong1D = runChiSquareTest(wrongLine, options);
+    std::cout << fmt::format("negative control 'Distribution1D pdf with two cells swapped': "
+                             "p-value {:.3g}\n",
+                             wrong1D.result.pValue);
+    CHECK_FALSE(wrong1D.result.passed);
+
     std::vector<float> image(8 * 6);
     for (size_t i = 0; i < image.size(); ++i)
-        image[i] = static_cast<float>((i * 7) % 5);          // zeros included, one all-zero row? no
+        image[i] = static_cast<float>((i * 7) % 5);          // some cells are 0
     std::fill(image.begin() + 16, image.begin() + 24, 0.0f); // row 2 is black
     const Distribution2D plane(image, 8, 6);
     SamplingRoutine planar;

@@ -11,6 +11,9 @@ namespace nori {
 
 /// Regularized lower incomplete gamma function P(a, x) (Numerical Recipes 3rd ed. §6.2).
 double incompleteGammaP(double a, double x);
+/// Its complement Q(a, x) = 1 − P(a, x), computed directly so that tiny tail
+/// probabilities (p-values of badly wrong samplers) do not round to 0.
+double incompleteGammaQ(double a, double x);
 /// Regularized incomplete beta function I_x(a, b) (Numerical Recipes 3rd ed. §6.4).
 double incompleteBeta(double a, double b, double x);
 /// CDF of the χ² distribution with k degrees of freedom: P(k/2, x/2).
