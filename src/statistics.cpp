@@ -191,6 +191,15 @@ ChiSquareResult pearsonChiSquareTest(const std::vector<double> &observed,
         ++cells;
     }
     result.degreesOfFreedom = cells - 1;
+    const double totalObserved = std::accumulate(observed.begin(), observed.end(), 0.0);
+    const double totalExpected = std::accumulate(expected.begin(), expected.end(), 0.0);
+    if (totalObserved == 0.0 && totalExpected == 0.0) {
+        // Nothing sampled and nothing expected (light from below a reflector): consistent.
+        result.passed = true;
+        result.pValue = 1.0;
+        result.message = "accepted: no samples, and the pdf is 0 everywhere";
+        return result;
+    }
     if (result.degreesOfFreedom <= 0) {
         result.message = "rejected: fewer than two cells with enough expected samples (increase "
                          "the sample count or lower the resolution)";

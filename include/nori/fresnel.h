@@ -1,0 +1,47 @@
+// Fresnel reflectance and the reflection/refraction laws, shared by every BSDF (PBR 4th
+// ed. §9.3–9.5). Directions are in the local shading frame (normal +z).
+#pragma once
+
+#include <nori/color.h>
+#include <nori/proplist.h>
+#include <nori/vector.h>
+
+namespace nori {
+
+/// Unpolarised Fresnel reflectance of a dielectric interface for light arriving with
+/// cos θi (negative: from the interior side), as in Nori's fresnel(). 1 under total
+/// internal reflection.
+float fresnelDielectric(float cosThetaI, float extIOR, float intIOR);
+
+/// Fresnel reflectance of a conductor with complex index η + ik per channel, relative to
+/// the outside medium (PBR 4th ed. eq. 9.23, the exact unpolarised form).
+Color3f fresnelConductor(float cosThetaI, const Color3f &eta, const Color3f &k);
+
+/// η and k (RGB, relative to air) of a named metal: "Au", "Ag", "Cu", "Al" (Mitsuba 0.5's
+/// RGB fits of measured spectra). Throws NoriException listing the names otherwise.
+void lookupConductor(const std::string &name, Color3f &eta, Color3f &k);
+
+/// Reads a conductor's complex index from a plugin's properties: `material` (a named
+/// metal) or `eta` and `k` (default: copper), divided by `extIOR` (default air).
+void readConductorIOR(const PropertyList &props, const std::string &plugin, Color3f &eta,
+                      Color3f &k);
+
+/// Mirror reflection of w about the normal n (w pointing away from the surface).
+inline Vector3f reflect(const Vector3f &w, const Vector3f &n) {
+    return Vector3f(2.0f * w.dot(n) * n - w);
+}
+
+/// Refracts w (pointing away) through the interface with normal n, where eta is the
+/// ratio η_t/η_i for the side w is on (n on the same side as w). Returns false under
+/// total internal reflection.
+inline bool refract(const Vector3f &w, const Vector3f &n, float eta, Vector3f &wt) {
+    const float cosThetaI = w.dot(n);
+    const float sin2ThetaT = std::max(0.0f, 1.0f - cosThetaI * cosThetaI) / (eta * eta);
+    if (sin2ThetaT >= 1.0f)
+        return false;
+    const float cosThetaT = std::sqrt(1.0f - sin2ThetaT);
+    wt = Vector3f(-w / eta + (cosThetaI / eta - cosThetaT) * n);
+    return true;
+}
+
+} // namespace nori

@@ -1,0 +1,49 @@
+/*
+ * conductor — a smooth metal: specular reflection weighted by the conductor Fresnel
+ * term (PBR 4th ed. §9.3.6).
+ *
+ * Parameters:
+ *   material  string  —        a named metal: Au, Ag, Cu, Al (instead of eta and k)
+ *   eta       color   (0.2, 0.92, 1.1)  real part of the index of refraction (copper)
+ *   k         color   (3.9, 2.45, 2.14) imaginary part (absorption)
+ *   extIOR    float   1.000277 index of refraction of the outside
+ *
+ *   <bsdf type="conductor"><string name="material" value="Au"/></bsdf>
+ */
+#include <nori/bsdf.h>
+#include <nori/frame.h>
+#include <nori/fresnel.h>
+
+namespace nori {
+
+class Conductor : public BSDF {
+public:
+    explicit Conductor(const PropertyList &props) {
+        readConductorIOR(props, "conductor", m_eta, m_k);
+    }
+
+    Color3f sample(BSDFQueryRecord &bRec, const Point2f &) const override {
+        const float cosThetaI = Frame::cosTheta(bRec.wi);
+        if (cosThetaI <= 0.0f)
+            return Color3f(0.0f);
+        bRec.wo = Vector3f(-bRec.wi.x(), -bRec.wi.y(), bRec.wi.z());
+        bRec.measure = EDiscrete;
+        bRec.eta = 1.0f;
+        return fresnelConductor(cosThetaI, m_eta, m_k);
+    }
+
+    Color3f eval(const BSDFQueryRecord &) const override { return Color3f(0.0f); }
+    float pdf(const BSDFQueryRecord &) const override { return 0.0f; }
+
+    std::string toString() const override {
+        return fmt::format("Conductor[eta=({}, {}, {}), k=({}, {}, {})]", m_eta.r(), m_eta.g(),
+                           m_eta.b(), m_k.r(), m_k.g(), m_k.b());
+    }
+
+private:
+    Color3f m_eta, m_k;
+};
+
+NORI_REGISTER_CLASS(Conductor, "conductor");
+
+} // namespace nori

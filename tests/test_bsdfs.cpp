@@ -1,0 +1,245 @@
+// BSDFs: χ² tests of every glossy/diffuse BSDF at several angles (grazing, and from
+// inside for dielectrics), the laws of the specular ones, Fresnel values, energy
+// conservation, and a negative control for each kind of lobe.
+#include <nori/bsdf.h>
+#include <nori/frame.h>
+#include <nori/fresnel.h>
+#include <nori/parser.h>
+#include <nori/pcg32.h>
+#include <nori/samplingroutines.h>
+
+#include "testutil.h"
+
+#include <catch2/catch.hpp>
+
+#include <iostream>
+
+using namespace nori;
+using Catch::Contains;
+using nori::testing::errorOf;
+
+namespace {
+
+std::shared_ptr<BSDF> makeBSDF(const std::string &xml) {
+    auto bsdf = std::dynamic_pointer_cast<BSDF>(loadFromXMLString(xml));
+    REQUIRE(bsdf);
+    return bsdf;
+}
+
+/// Incident direction at `degrees` from the normal (beyond 90: from inside).
+Vector3f incident(float degrees) {
+    const float theta = degToRad(degrees);
+    return Vector3f(std::sin(theta), 0.0f, std::cos(theta));
+}
+
+ChiSquareReport chiSquare(const SamplingRoutine &routine, uint64_t seed, double alpha) {
+    ChiSquareOptions options;
+    options.sampleCount = 300000;
+    options.seed = seed;
+    options.significanceLevel = alpha;
+    return runChiSquareTest(routine, options);
+}
+
+/// Mean and standard error of the sampled weight (luminance), with refracted weights
+/// multiplied by eta² to undo radiance scaling: the fraction of energy scattered.
+std::pair<double, double> albedo(const BSDF &bsdf, const Vector3f &wi, int n = 200000) {
+    PCG32 random(5, 6);
+    double sum = 0.0, sum2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+        BSDFQueryRecord bRec(wi);
+        const float u = random.nextFloat();
+        double value = bsdf.sample(bRec, Point2f(u, random.nextFloat())).getLuminance();
+        value *= static_cast<double>(bRec.eta) * bRec.eta;
+        sum += value;
+        sum2 += value * value;
+    }
+    const double mean = sum / n;
+    return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n)};
+}
+
+const std::vector<std::string> kGlossyBSDFs = {
+    R"(<bsdf type="diffuse"/>)",
+    R"(<bsdf type="microfacet"><float name="alpha" value="0.1"/></bsdf>)",
+    R"(<bsdf type="microfacet"><float name="alpha" value="0.4"/><color name="kd" value="0.2"/></bsdf>)",
+    R"(<bsdf type="roughconductor"><string name="distribution" value="beckmann"/><float name="alpha" value="0.15"/></bsdf>)",
+    R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.5"/><string name="material" value="Au"/></bsdf>)",
+    R"(<bsdf type="roughdielectric"><string name="distribution" value="beckmann"/><float name="alpha" value="0.2"/></bsdf>)",
+    R"(<bsdf type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.6"/><float name="intIOR" value="1.33"/></bsdf>)",
+};
+
+} // namespace
+
+TEST_CASE("Every non-specular BSDF samples its pdf, at grazing angles and from inside",
+          "[bsdf][chi2]") {
+    const std::vector<float> outside = {0.0f, 40.0f, 75.0f, 89.0f};
+    const std::vector<float> inside = {110.0f, 150.0f, 180.0f};
+    int tests = 0;
+    for (const std::string &xml : kGlossyBSDFs)
+        tests += static_cast<int>(
+            outside.size() + (xml.find("dielectric") != std::string::npos ? inside.size() : 0));
+    const double alpha = sidakCorrection(0.01, tests);
+    uint64_t seed = 100;
+    for (const std::string &xml : kGlossyBSDFs) {
+        auto bsdf = makeBSDF(xml);
+        std::vector<float> angles = outside;
+        if (xml.find("dielectric") != std::string::npos)
+            angles.insert(angles.end(), inside.begin(), inside.end());
+        for (float angle : angles) {
+            const ChiSquareReport report =
+                chiSquare(bsdfRoutine(*bsdf, incident(angle)), ++seed, alpha);
+            INFO(bsdf->toString() << " at " << angle << " degrees: " << report.result.message);
+            CHECK(report.result.passed);
+        }
+    }
+}
+
+TEST_CASE("No BSDF scatters more energy than arrives", "[bsdf][energy]") {
+    std::vector<std::string> all = kGlossyBSDFs;
+    all.push_back(R"(<bsdf type="mirror"/>)");
+    all.push_back(R"(<bsdf type="dielectric"/>)");
+    all.push_back(R"(<bsdf type="conductor"><string name="material" value="Ag"/></bsdf>)");
+    all.push_back(
+        R"(<bsdf type="roughconductor"><float name="alpha" value="1.0"/><color name="eta" value="0.2"/><color name="k" value="10"/></bsdf>)");
+    for (const std::string &xml : all) {
+        auto bsdf = makeBSDF(xml);
+        for (float angle : {0.0f, 45.0f, 80.0f, 89.5f, 120.0f, 175.0f}) {
+            const auto [mean, error] = albedo(*bsdf, incident(angle));
+            INFO(bsdf->toString() << " at " << angle << ": albedo " << mean << " ± " << error);
+            // The estimate may exceed 1 only by its own noise (4 standard errors).
+            CHECK(mean <= 1.0 + 4.0 * error + 1e-6);
+        }
+    }
+    // The check has the power to catch a BSDF that creates 3% energy: a perfect
+    // mirror's albedo is exactly 1 with zero variance, and 1.03 > 1 + 4·0.
+    const auto [mirror, mirrorError] = albedo(*makeBSDF(R"(<bsdf type="mirror"/>)"), incident(30));
+    CHECK(mirror == Approx(1.0));
+    CHECK_FALSE(1.03 * mirror <= 1.0 + 4.0 * mirrorError + 1e-6);
+}
+
+TEST_CASE("Fresnel reflectance matches closed forms", "[bsdf][fresnel]") {
+    // Normal incidence: ((η − 1)/(η + 1))² for dielectrics, ((η−1)² + k²)/((η+1)² + k²)
+    // for conductors.
+    CHECK(fresnelDielectric(1.0f, 1.0f, 1.5f) == Approx(0.04f).epsilon(1e-5));
+    CHECK(fresnelDielectric(-1.0f, 1.0f, 1.5f) == Approx(0.04f).epsilon(1e-5));
+    CHECK(fresnelDielectric(0.0f, 1.0f, 1.5f) == Approx(1.0f));
+    // Total internal reflection beyond the critical angle asin(1/1.5) ≈ 41.8° inside.
+    CHECK(fresnelDielectric(-std::cos(degToRad(45.0f)), 1.0f, 1.5f) == 1.0f);
+    CHECK(fresnelDielectric(-std::cos(degToRad(40.0f)), 1.0f, 1.5f) < 1.0f);
+    const Color3f f = fresnelConductor(1.0f, Color3f(0.2f, 1.0f, 1.5f), Color3f(3.0f, 0.0f, 1.0f));
+    CHECK(f.r() == Approx((0.64f + 9.0f) / (1.44f + 9.0f)).epsilon(1e-5));
+    CHECK(f.g() == Approx(0.0f).margin(1e-6));
+    CHECK(f.b() == Approx((0.25f + 1.0f) / (6.25f + 1.0f)).epsilon(1e-5));
+    CHECK_THAT(errorOf([] {
+                   Color3f eta, k;
+                   lookupConductor("Gold", eta, k);
+               }),
+               Contains("unknown metal 'Gold'"));
+}
+
+TEST_CASE("Specular BSDFs obey the laws of reflection and refraction", "[bsdf][specular]") {
+    const Vector3f wi = incident(35.0f);
+    BSDFQueryRecord mirrorRec(wi);
+    CHECK((makeBSDF(R"(<bsdf type="mirror"/>)")->sample(mirrorRec, Point2f(0.3f, 0.7f)) ==
+           Color3f(1.0f))
+              .all());
+    CHECK(mirrorRec.measure == EDiscrete);
+    CHECK(mirrorRec.wo.isApprox(Vector3f(-wi.x(), -wi.y(), wi.z())));
+
+    auto conductor =
+        makeBSDF(R"(<bsdf type="conductor"><string name="material" value="Au"/></bsdf>)");
+    BSDFQueryRecord conductorRec(wi);
+    Color3f eta, k;
+    lookupConductor("Au", eta, k);
+    CHECK(conductor->sample(conductorRec, Point2f(0.5f, 0.5f))
+              .isApprox(fresnelConductor(wi.z(), eta / 1.000277f, k / 1.000277f), 1e-5f));
+
+    // Dielectric: refraction obeys Snell's law, reflection is chosen with probability F,
+    // and beyond the critical angle from inside everything reflects.
+    auto glass = makeBSDF(
+        R"(<bsdf type="dielectric"><float name="intIOR" value="1.5"/><float name="extIOR" value="1"/></bsdf>)");
+    const float fresnel = fresnelDielectric(wi.z(), 1.0f, 1.5f);
+    PCG32 random(1, 1);
+    const int n = 100000;
+    int reflected = 0;
+    for (int i = 0; i < n; ++i) {
+        BSDFQueryRecord bRec(wi);
+        const float u = random.nextFloat();
+        const Color3f weight = glass->sample(bRec, Point2f(u, random.nextFloat()));
+        if (bRec.wo.z() > 0.0f) {
+            ++reflected;
+            CHECK(weight.isApprox(Color3f(1.0f)));
+        } else {
+            // sin θt · 1.5 = sin θi · 1, and radiance is scaled by (1/1.5)².
+            CHECK(1.5f * Frame::sinTheta(bRec.wo) == Approx(Frame::sinTheta(wi)).epsilon(1e-4));
+            CHECK(weight.isApprox(Color3f(1.0f / 2.25f), 1e-5f));
+        }
+    }
+    // Binomial: the reflected count lies within 5 standard deviations of n·F.
+    const double sigma = std::sqrt(n * fresnel * (1.0 - fresnel));
+    CHECK(std::abs(reflected - n * fresnel) < 5.0 * sigma);
+    // Negative control (discrete lobe): the same count tested against F of water (1.33)
+    // is rejected.
+    const float wrongF = fresnelDielectric(wi.z(), 1.0f, 1.33f);
+    const double wrongSigma = std::sqrt(n * wrongF * (1.0 - wrongF));
+    std::cout << fmt::format("negative control 'dielectric reflection count against F of "
+                             "water': z = {:.1f}\n",
+                             (reflected - n * wrongF) / wrongSigma);
+    CHECK(std::abs(reflected - n * wrongF) > 5.0 * wrongSigma);
+
+    BSDFQueryRecord trapped(incident(180.0f - 50.0f));
+    CHECK(glass->sample(trapped, Point2f(0.999f, 0.5f)).isApprox(Color3f(1.0f)));
+    CHECK(trapped.wo.z() < 0.0f); // reflected back inside
+}
+
+TEST_CASE("Negative controls: χ² rejects a wrong glossy lobe and a wrong transmission lobe",
+          "[bsdf][negative]") {
+    // Glossy reflection: samples of α = 0.3 against the pdf of α = 0.36.
+    auto sampler =
+        makeBSDF(R"(<bsdf type="roughconductor"><float name="alpha" value="0.3"/></bsdf>)");
+    auto wrongPdf =
+        makeBSDF(R"(<bsdf type="roughconductor"><float name="alpha" value="0.36"/></bsdf>)");
+    SamplingRoutine glossy = bsdfRoutine(*sampler, incident(30.0f));
+    glossy.pdf = bsdfRoutine(*wrongPdf, incident(30.0f)).pdf;
+    const ChiSquareReport glossyReport = chiSquare(glossy, 3, 0.01);
+    std::cout << fmt::format("negative control 'roughconductor alpha 0.3 against pdf of 0.36': "
+                             "p-value {:.3g}\n",
+                             glossyReport.result.pValue);
+    CHECK_FALSE(glossyReport.result.passed);
+
+    // Transmission: glass of 1.5 against the pdf of 1.4 (the refracted lobe moves).
+    auto glass = makeBSDF(
+        R"(<bsdf type="roughdielectric"><float name="alpha" value="0.2"/><float name="intIOR" value="1.5"/></bsdf>)");
+    auto other = makeBSDF(
+        R"(<bsdf type="roughdielectric"><float name="alpha" value="0.2"/><float name="intIOR" value="1.4"/></bsdf>)");
+    SamplingRoutine transmission = bsdfRoutine(*glass, incident(20.0f));
+    transmission.pdf = bsdfRoutine(*other, incident(20.0f)).pdf;
+    const ChiSquareReport transmissionReport = chiSquare(transmission, 4, 0.01);
+    std::cout << fmt::format("negative control 'roughdielectric IOR 1.5 against pdf of 1.4': "
+                             "p-value {:.3g}\n",
+                             transmissionReport.result.pValue);
+    CHECK_FALSE(transmissionReport.result.passed);
+}
+
+TEST_CASE("BSDF parameters are validated", "[bsdf]") {
+    CHECK_THAT(errorOf([] {
+                   makeBSDF(
+                       R"(<bsdf type="roughconductor"><float name="alpha" value="-0.1"/></bsdf>)");
+               }),
+               Contains("'alpha' must be positive"));
+    CHECK_THAT(
+        errorOf([] {
+            makeBSDF(
+                R"(<bsdf type="roughdielectric"><string name="distribution" value="phong"/></bsdf>)");
+        }),
+        Contains("unknown microfacet distribution 'phong'"));
+    CHECK_THAT(
+        errorOf([] {
+            makeBSDF(
+                R"(<bsdf type="conductor"><string name="material" value="Au"/><color name="eta" value="1"/></bsdf>)");
+        }),
+        Contains("either 'material' or 'eta' and 'k'"));
+    CHECK_THAT(errorOf([] {
+                   makeBSDF(R"(<bsdf type="microfacet"><color name="kd" value="1.5"/></bsdf>)");
+               }),
+               Contains("'kd' must lie in [0, 1]"));
+}
