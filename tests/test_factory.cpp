@@ -57,9 +57,9 @@ TEST_CASE("Factory creates by name and checks the kind and the properties", "[fa
                }),
                Contains("unknown bsdf plugin 'difuse' (did you mean 'diffuse'?)"));
     CHECK_THAT(errorOf([] {
-                   NoriObjectFactory::createInstance("zzz", NoriObject::EBSDF, PropertyList());
+                   NoriObjectFactory::createInstance("zzz", NoriObject::ESampler, PropertyList());
                }),
-               Contains("known bsdf plugins: diffuse"));
+               Contains("unknown sampler plugin 'zzz' (known sampler plugins: independent)"));
     PropertyList typo;
     typo.setColor("albdo", Color3f(0.25f));
     CHECK_THAT(
