@@ -120,6 +120,29 @@ void Mesh::finishLoading(const Transform &toWorld) {
     for (const Vector3i &face : m_faces)
         for (int i = 0; i < 3; ++i)
             m_bbox.expandBy(m_positions[face[i]]);
+
+    m_triangleAreas.clear();
+    m_triangleAreas.reserve(m_faces.size());
+    for (uint32_t i = 0; i < m_faces.size(); ++i)
+        m_triangleAreas.append(surfaceArea(i));
+    if (!m_faces.empty())
+        m_triangleAreas.normalize();
+}
+
+ShapeSample Mesh::sampleSurface(const Point2f &sample) const {
+    float u = sample.x();
+    const uint32_t index = static_cast<uint32_t>(m_triangleAreas.sampleReuse(u));
+    // Uniform barycentrics: b1 = 1 − √u, b2 = v √u.
+    const float root = std::sqrt(u);
+    const float b1 = 1.0f - root, b2 = sample.y() * root, b0 = 1.0f - b1 - b2;
+    const Vector3i &face = m_faces[index];
+    const Point3f &p0 = m_positions[face[0]], &p1 = m_positions[face[1]],
+                  &p2 = m_positions[face[2]];
+    ShapeSample result;
+    result.p = b0 * p0 + b1 * p1 + b2 * p2;
+    result.n = Vector3f(p1 - p0).cross(Vector3f(p2 - p0)).normalized();
+    result.pdf = 1.0f / getArea();
+    return result;
 }
 
 std::string Mesh::toString() const {

@@ -48,6 +48,7 @@ struct Child {
 struct ObjectFrame {
     PropertyList props;
     std::vector<Child> children;
+    bool isScene = false; ///< the element is a <scene>
 };
 
 enum class TagKind { Object, Ref, Include, Default, Property, Transform, TransformOp };
@@ -335,6 +336,7 @@ private:
         const std::string type = attributes.count("type") ? attributes["type"] : tag;
 
         ObjectFrame frame;
+        frame.isScene = classType == NoriObject::EScene;
         parseChildren(file, node, &frame, nullptr);
 
         const std::string description = fmt::format("<{} type=\"{}\">", tag, type);
@@ -374,10 +376,18 @@ private:
                     location, fmt::format("id '{}' is already used at {}", id, it->second.second));
         }
         Child result{object, attributes.count("name") ? attributes["name"] : "", location};
-        if (parent)
-            parent->children.push_back(result);
-        else
+        if (!parent) {
             *root = result;
+        } else if (!(parent->isScene && attributes.count("id") && isDeclarationKind(classType))) {
+            parent->children.push_back(result);
+        }
+        // else: a BSDF, texture or phase function with an id directly in <scene> is a
+        // declaration, made to be used through <ref>, not a part of the scene itself.
+    }
+
+    static bool isDeclarationKind(NoriObject::EClassType type) {
+        return type == NoriObject::EBSDF || type == NoriObject::ETexture ||
+               type == NoriObject::EPhaseFunction;
     }
 
     void parseRef(const std::string &location, std::map<std::string, std::string> &attributes,

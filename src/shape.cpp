@@ -1,4 +1,5 @@
 #include <nori/bsdf.h>
+#include <nori/emitter.h>
 #include <nori/rayerror.h>
 #include <nori/shape.h>
 
@@ -18,10 +19,30 @@ Ray3f Intersection::spawnRayTo(const Point3f &target) const {
 }
 
 void Shape::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
-    if (child->getClassType() == EBSDF)
+    if (child->getClassType() == EBSDF) {
         setUniqueChild(m_bsdf, child, "a shape");
-    else
+    } else if (child->getClassType() == EEmitter) {
+        setUniqueChild(m_emitter, child, "a shape");
+        m_emitter->setShape(this);
+    } else {
         NoriObject::addChild(child, name);
+    }
+}
+
+ShapeSample Shape::sampleFromReference(const Point3f &ref, const Point2f &sample) const {
+    ShapeSample result = sampleSurface(sample);
+    result.pdf = pdfFromReference(ref, result.p, result.n);
+    return result;
+}
+
+float Shape::pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const {
+    // Change of measure from area to solid angle at ref: dω = |cos θ| dA / d².
+    const Vector3f toPoint = p - ref;
+    const float distanceSquared = toPoint.squaredNorm();
+    const float cosTheta = std::abs(n.dot(toPoint)) / std::sqrt(distanceSquared);
+    if (cosTheta == 0.0f || distanceSquared == 0.0f)
+        return 0.0f;
+    return distanceSquared / (cosTheta * getArea());
 }
 
 void Shape::activate() {

@@ -99,8 +99,10 @@ TEST_CASE("nori reports bad input files and options without crashing", "[cli]") 
 TEST_CASE("nori --list-plugins prints every plugin by kind", "[cli]") {
     auto result = runNori({"--list-plugins"});
     CHECK(result.exitCode == 0);
-    CHECK_THAT(result.output, Contains("integrator:\n  ao\n  normals\n  simple\n") &&
-                                  Contains("rfilter:\n  box\n  gaussian\n  mitchell\n  tent\n"));
+    // Kinds in order, each followed by its plugins, sorted.
+    CHECK_THAT(result.output, Contains("integrator:\n  ao\n  av\n  direct\n") &&
+                                  Contains("rfilter:\n  box\n  gaussian\n  mitchell\n  tent\n") &&
+                                  Contains("emitter:\n  area\n  point\n"));
 }
 
 TEST_CASE("Ctrl-C writes the finished blocks as a partial image and exits non-zero", "[cli]") {

@@ -1,5 +1,6 @@
 // The XML parser: Nori 2's format, our extensions, and an error with a location for
 // every kind of mistake.
+#include <nori/bsdf.h>
 #include <nori/parser.h>
 #include <nori/scene.h>
 
@@ -128,6 +129,19 @@ TEST_CASE("Parser binds named children, ids and refs", "[parser]") {
     CHECK(r->children[2].first.empty());
     // A shared child is activated once, when it is declared.
     CHECK(std::static_pointer_cast<Recorder>(r->children[0].second)->activations == 1);
+}
+
+TEST_CASE("A BSDF with an id directly in <scene> is a declaration for <ref>", "[parser]") {
+    auto scene = std::dynamic_pointer_cast<Scene>(loadFromXMLString(R"(<scene>
+        <bsdf type="diffuse" id="white"><color name="albedo" value="0.7"/></bsdf>
+        <integrator type="normals"/><camera type="perspective"/>
+        <mesh type="sphere"><ref id="white"/></mesh>
+    </scene>)"));
+    REQUIRE(scene);
+    CHECK(scene->getShapes().at(0)->getBSDF()->toString() == "Diffuse[albedo=(0.7, 0.7, 0.7)]");
+    // Without an id it has no use at the top level: the scene refuses it.
+    CHECK_THAT(parseError(R"(<scene><bsdf type="diffuse"/></scene>)"),
+               Contains("a scene does not accept a bsdf"));
 }
 
 TEST_CASE("Parser substitutes $variables from -D and <default>", "[parser]") {

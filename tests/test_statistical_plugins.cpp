@@ -49,6 +49,7 @@ public:
         return Color3f(1.0f / lRec.pdf);
     }
     Color3f eval(const EmitterQueryRecord &) const override { return Color3f(1.0f); }
+    Color3f getPower() const override { return Color3f(1.0f); }
     float pdf(const EmitterQueryRecord &lRec) const override {
         return m_pdfScale * Warp::squareToUniformSphereCapPdf(lRec.wi, m_cosThetaMax);
     }

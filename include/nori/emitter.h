@@ -38,6 +38,11 @@ public:
     virtual float pdf(const EmitterQueryRecord &lRec) const = 0;
     /// Lights with a delta distribution (point, spot, distant) cannot be hit by rays.
     virtual bool isDelta() const { return false; }
+    /// Whether the light must be nested in a shape (area lights); the scene rejects such
+    /// a light at the top level.
+    virtual bool requiresShape() const { return false; }
+    /// Total emitted power (flux); the scene picks lights in proportion to its luminance.
+    virtual Color3f getPower() const = 0;
 
     /// The shape an area light is attached to, or nullptr.
     const Shape *getShape() const { return m_shape; }

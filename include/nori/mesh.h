@@ -2,6 +2,7 @@
 // Loaders (plugins/shapes/obj.cpp) fill the arrays and call finishLoading().
 #pragma once
 
+#include <nori/dpdf.h>
 #include <nori/shape.h>
 #include <nori/transform.h>
 
@@ -22,6 +23,9 @@ public:
                            Intersection &its) const override;
 
     float surfaceArea(uint32_t index) const;
+    float getArea() const override { return m_triangleAreas.getSum(); }
+    /// A triangle chosen by area, then a uniform point on it (PBR 4th ed. §6.5.4).
+    ShapeSample sampleSurface(const Point2f &sample) const override;
 
     const std::vector<Point3f> &getVertexPositions() const { return m_positions; }
     const std::vector<Normal3f> &getVertexNormals() const { return m_normals; }
@@ -43,6 +47,7 @@ protected:
     std::vector<Normal3f> m_normals;  ///< per-vertex normals, or empty
     std::vector<Point2f> m_texCoords; ///< per-vertex uvs, or empty
     std::vector<Vector3i> m_faces;    ///< vertex indices of each triangle
+    DiscretePDF m_triangleAreas;      ///< for sampling a triangle by area
 };
 
 } // namespace nori

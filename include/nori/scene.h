@@ -3,8 +3,12 @@
 
 #include <nori/accel.h>
 #include <nori/camera.h>
+#include <nori/dpdf.h>
+#include <nori/emitter.h>
 #include <nori/integrator.h>
 #include <nori/sampler.h>
+
+#include <unordered_map>
 
 namespace nori {
 
@@ -20,6 +24,14 @@ public:
     const Sampler *getSampler() const { return m_sampler.get(); }
     const std::vector<std::shared_ptr<Shape>> &getShapes() const { return m_shapes; }
     const BoundingBox3f &getBoundingBox() const { return m_accel.getBoundingBox(); }
+    /// Every light: area lights of shapes and the scene's own (point) lights.
+    const std::vector<std::shared_ptr<Emitter>> &getEmitters() const { return m_emitters; }
+
+    /// Picks a light with probability proportional to its power (luminance); `u` is
+    /// rescaled for reuse. nullptr when the scene has no light.
+    const Emitter *sampleEmitter(float &u, float &pmf) const;
+    /// The probability that sampleEmitter picks `emitter`.
+    float emitterPmf(const Emitter *emitter) const;
 
     /// Closest intersection along the ray's segment.
     bool rayIntersect(const Ray3f &ray, Intersection &its) const {
@@ -40,6 +52,9 @@ public:
 
 private:
     std::vector<std::shared_ptr<Shape>> m_shapes;
+    std::vector<std::shared_ptr<Emitter>> m_emitters;
+    DiscretePDF m_emitterPdf;
+    std::unordered_map<const Emitter *, size_t> m_emitterIndex;
     std::shared_ptr<Integrator> m_integrator;
     std::shared_ptr<Camera> m_camera;
     std::shared_ptr<Sampler> m_sampler;

@@ -9,7 +9,16 @@
 namespace nori {
 
 class BSDF;
+class Emitter;
 class Shape;
+
+/// A point sampled on a shape's surface.
+struct ShapeSample {
+    Point3f p;
+    Normal3f n;    ///< outward (geometric) normal at p
+    float pdf = 0; ///< density: per area (sampleSurface) or per solid angle at the
+                   ///< reference point (sampleFromReference)
+};
 
 struct Intersection {
     Point3f p;           ///< hit position
@@ -50,10 +59,24 @@ public:
     virtual void setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
                                    Intersection &its) const = 0;
 
+    /// Total surface area.
+    virtual float getArea() const = 0;
+    /// A point uniformly distributed over the surface (pdf = 1/area).
+    virtual ShapeSample sampleSurface(const Point2f &sample) const = 0;
+    /// A point on the surface as seen from `ref`, with its pdf in solid angle at ref. The
+    /// default converts area sampling (pdf_ω = pdf_A · d²/|cos θ|); shapes that can do
+    /// better (a sphere's visible cone) override it together with pdfFromReference.
+    virtual ShapeSample sampleFromReference(const Point3f &ref, const Point2f &sample) const;
+    /// The solid-angle density at ref of sampleFromReference producing (p, n).
+    virtual float pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const;
+
     const BoundingBox3f &getBoundingBox() const { return m_bbox; }
     const BSDF *getBSDF() const { return m_bsdf.get(); }
+    /// The area light on this shape, or nullptr.
+    const Emitter *getEmitter() const { return m_emitter.get(); }
+    std::shared_ptr<Emitter> getEmitterPtr() const { return m_emitter; }
 
-    /// Accepts one <bsdf>.
+    /// Accepts one <bsdf> and one <emitter> (which becomes an area light on the shape).
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     /// Gives a shape without a BSDF the default diffuse one (Nori's behaviour).
     void activate() override;
@@ -63,6 +86,7 @@ public:
 protected:
     BoundingBox3f m_bbox;
     std::shared_ptr<BSDF> m_bsdf;
+    std::shared_ptr<Emitter> m_emitter;
 };
 
 } // namespace nori

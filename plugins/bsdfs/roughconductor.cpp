@@ -61,6 +61,9 @@ public:
         return density > 0.0f ? eval(bRec) * Frame::cosTheta(bRec.wo) / density : Color3f(0.0f);
     }
 
+    /// Not a delta distribution, so integrators should sample lights here too.
+    bool isDiffuse() const override { return true; }
+
     std::string toString() const override {
         return fmt::format("RoughConductor[distribution={}, alpha={}]",
                            m_distribution.type() == MicrofacetDistribution::Type::GGX ? "ggx"

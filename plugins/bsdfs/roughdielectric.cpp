@@ -104,6 +104,9 @@ public:
                               : Color3f(0.0f);
     }
 
+    /// Not a delta distribution, so integrators should sample lights here too.
+    bool isDiffuse() const override { return true; }
+
     std::string toString() const override {
         return fmt::format("RoughDielectric[distribution={}, alpha={}, intIOR={}, extIOR={}]",
                            m_distribution.type() == MicrofacetDistribution::Type::GGX ? "ggx"

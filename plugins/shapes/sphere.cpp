@@ -2,9 +2,14 @@
  * sphere — an analytic sphere. uv are spherical coordinates: u = φ/2π around +z,
  * v = θ/π from +z.
  *
+ * As an area light it is sampled through the cone of directions it subtends
+ * (PBR 4th ed. §6.2.4) when the reference point is outside, by area otherwise.
+ *
  * Parameters:
- *   center  point  (0, 0, 0)  centre of the sphere
- *   radius  float  1          radius, positive
+ *   center       point    (0, 0, 0)  centre of the sphere
+ *   radius       float    1          radius, positive
+ *   flipNormals  boolean  false      normals point inward (a room, or an emitting shell
+ *                                    lit from inside)
  *
  *   <mesh type="sphere">
  *       <point name="center" value="0, 1, 0"/> <float name="radius" value="0.5"/>
@@ -12,6 +17,7 @@
  */
 #include <nori/rayerror.h>
 #include <nori/shape.h>
+#include <nori/warp.h>
 
 namespace nori {
 
@@ -20,6 +26,7 @@ public:
     explicit Sphere(const PropertyList &props) {
         m_center = props.getPoint("center", Point3f(0.0f));
         m_radius = props.getFloat("radius", 1.0f);
+        m_flipNormals = props.getBoolean("flipNormals", false);
         if (!(m_radius > 0.0f) || !std::isfinite(m_radius))
             throw NoriException("sphere: 'radius' must be positive, got {}", m_radius);
         m_bbox = BoundingBox3f(m_center - Vector3f(m_radius), m_center + Vector3f(m_radius));
@@ -59,6 +66,7 @@ public:
     void setHitInformation(uint32_t, const Ray3f &ray, const Point2f &,
                            Intersection &its) const override {
         const Vector3f n = Vector3f(ray(its.t) - m_center).normalized();
+        const float side = m_flipNormals ? -1.0f : 1.0f;
         // Project back onto the surface to remove the error of o + t·d; what remains is
         // the rounding of c + r·n (PBR 4th ed. §6.8.5 bounds it by γ₅|p| for a sphere).
         its.p = m_center + m_radius * n;
@@ -78,23 +86,78 @@ public:
                    Vector3f(cosTheta * std::cos(phi), cosTheta * std::sin(phi), -sinTheta);
 
         // Tangent along ∂p/∂u where it exists (not at the poles).
+        const Vector3f normal = side * n;
         if (its.dpdu.squaredNorm() > 1e-12f) {
             const Vector3f s = its.dpdu.normalized();
-            its.geoFrame = Frame(s, n.cross(s), n);
+            its.geoFrame = Frame(s, normal.cross(s), normal);
         } else {
-            its.geoFrame = Frame(n);
+            its.geoFrame = Frame(normal);
         }
         its.shFrame = its.geoFrame;
     }
 
+    float getArea() const override { return 4.0f * kPi * m_radius * m_radius; }
+
+    ShapeSample sampleSurface(const Point2f &sample) const override {
+        const Vector3f n = Warp::squareToUniformSphere(sample);
+        ShapeSample result;
+        result.p = m_center + m_radius * n;
+        result.n = m_flipNormals ? Vector3f(-n) : n;
+        result.pdf = 1.0f / getArea();
+        return result;
+    }
+
+    ShapeSample sampleFromReference(const Point3f &ref, const Point2f &sample) const override {
+        const Vector3f toCenter = m_center - ref;
+        const float distanceSquared = toCenter.squaredNorm();
+        if (!seesCone(distanceSquared))
+            return Shape::sampleFromReference(ref, sample);
+        // A uniform direction in the cone the sphere subtends, then the nearer point
+        // where that direction meets the sphere.
+        const float distance = std::sqrt(distanceSquared);
+        const float cosThetaMax = safeSqrt(1.0f - m_radius * m_radius / distanceSquared);
+        const Vector3f local = Warp::squareToUniformSphereCap(sample, cosThetaMax);
+        const Vector3f direction = Frame(Vector3f(toCenter / distance)).toWorld(local);
+        // |ref + t·d − c| = r, nearer root: t = d·(c − ref) − √(r² − |perpendicular|²).
+        const float along = direction.dot(toCenter);
+        const float perpendicular2 = std::max(0.0f, distanceSquared - along * along);
+        const float t = along - safeSqrt(m_radius * m_radius - perpendicular2);
+        ShapeSample result;
+        result.p = ref + t * direction;
+        const Vector3f n = Vector3f(result.p - m_center).normalized();
+        result.n = m_flipNormals ? Vector3f(-n) : n;
+        result.pdf = Warp::squareToUniformSphereCapPdf(local, cosThetaMax);
+        return result;
+    }
+
+    float pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const override {
+        const Vector3f toCenter = m_center - ref;
+        const float distanceSquared = toCenter.squaredNorm();
+        if (!seesCone(distanceSquared))
+            return Shape::pdfFromReference(ref, p, n);
+        // Only the near side is in the cone: the far side is never sampled.
+        if (Vector3f(p - m_center).dot(Vector3f(ref - m_center)) < 0.0f)
+            return 0.0f;
+        const float cosThetaMax = safeSqrt(1.0f - m_radius * m_radius / distanceSquared);
+        return kInvTwoPi / (1.0f - cosThetaMax);
+    }
+
     std::string toString() const override {
-        return fmt::format("Sphere[center=({}, {}, {}), radius={}]", m_center.x(), m_center.y(),
-                           m_center.z(), m_radius);
+        return fmt::format("Sphere[center=({}, {}, {}), radius={}, flipNormals={}]", m_center.x(),
+                           m_center.y(), m_center.z(), m_radius, m_flipNormals);
     }
 
 private:
+    /// Whether a reference point at this squared distance from the centre is clearly
+    /// outside, so the sphere subtends a proper cone; points inside or on the surface
+    /// (within a relative 1e-3, e.g. on the light itself) use area sampling.
+    bool seesCone(float distanceSquared) const {
+        return distanceSquared > m_radius * m_radius * (1.0f + 1e-3f);
+    }
+
     Point3f m_center;
     float m_radius;
+    bool m_flipNormals;
 };
 
 NORI_REGISTER_CLASS(Sphere, "sphere");

@@ -1,0 +1,41 @@
+// Unidirectional path tracing with a choice of strategy for direct light — BSDF
+// sampling, light sampling (next-event estimation) or both with multiple importance
+// sampling (Veach 1997, ch. 9, balance heuristic). With one bounce it computes direct
+// lighting only. The integrator plugins (direct_*, path_*) are configurations of it.
+#pragma once
+
+#include <nori/integrator.h>
+
+namespace nori {
+
+class BSDF;
+struct Intersection;
+
+class PathTracer : public Integrator {
+public:
+    enum class Strategy {
+        BSDF,  ///< emission is found by BSDF-sampled rays only ("mats")
+        Light, ///< emitters are sampled at each vertex ("ems")
+        MIS    ///< both, weighted by the balance heuristic ("mis")
+    };
+
+    /// `bounces` > 0 fixes the number of bounces (1: direct lighting); otherwise the
+    /// plugin reads `maxDepth` (default −1, unbounded) and `rrDepth` (default 3).
+    PathTracer(const PropertyList &props, Strategy strategy, int bounces, std::string name);
+
+    Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const override;
+    std::string toString() const override;
+
+private:
+    /// One light sample at the vertex `its` (direct lighting toward wi), with the MIS
+    /// weight when the strategy is MIS.
+    Color3f sampleLight(const Scene *scene, Sampler *sampler, const Intersection &its,
+                        const BSDF &bsdf, const Vector3f &wiLocal) const;
+
+    Strategy m_strategy;
+    int m_maxDepth; ///< bounces after the camera ray; −1 for no limit
+    int m_rrDepth;  ///< Russian roulette from this bounce on
+    std::string m_name;
+};
+
+} // namespace nori

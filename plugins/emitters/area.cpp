@@ -1,0 +1,67 @@
+/*
+ * area — a diffuse area light: constant radiance leaving the front side of the shape it
+ * is nested in (the side its normals point to). Points are sampled by the shape: by
+ * area for meshes, through the subtended cone for spheres.
+ *
+ * Parameters:
+ *   radiance  color  (required)  emitted radiance
+ *
+ *   <mesh type="obj"><string name="filename" value="light.obj"/>
+ *       <emitter type="area"><color name="radiance" value="10, 10, 10"/></emitter></mesh>
+ */
+#include <nori/emitter.h>
+#include <nori/shape.h>
+
+namespace nori {
+
+class AreaLight : public Emitter {
+public:
+    explicit AreaLight(const PropertyList &props) {
+        m_radiance = props.getColor("radiance");
+        if ((m_radiance < 0.0f).any())
+            throw NoriException("area: 'radiance' must not be negative");
+    }
+
+    bool requiresShape() const override { return true; }
+
+    Color3f sample(EmitterQueryRecord &lRec, const Point2f &sample) const override {
+        const ShapeSample point = m_shape->sampleFromReference(lRec.ref, sample);
+        lRec.p = point.p;
+        lRec.n = point.n;
+        const Vector3f toLight = lRec.p - lRec.ref;
+        const float distance = toLight.norm();
+        if (distance == 0.0f || point.pdf <= 0.0f)
+            return Color3f(0.0f);
+        lRec.wi = toLight / distance;
+        lRec.pdf = point.pdf;
+        lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance * (1.0f - kShadowEpsilon));
+        const Color3f radiance = eval(lRec);
+        return (radiance == 0.0f).all() ? radiance : Color3f(radiance / lRec.pdf);
+    }
+
+    Color3f eval(const EmitterQueryRecord &lRec) const override {
+        // One-sided: only the side the normal points to emits.
+        return lRec.n.dot(lRec.wi) < 0.0f ? m_radiance : Color3f(0.0f);
+    }
+
+    float pdf(const EmitterQueryRecord &lRec) const override {
+        if (lRec.n.dot(lRec.wi) >= 0.0f)
+            return 0.0f;
+        return m_shape->pdfFromReference(lRec.ref, lRec.p, lRec.n);
+    }
+
+    // A Lambertian emitter radiates π·L per unit area.
+    Color3f getPower() const override { return m_radiance * (kPi * m_shape->getArea()); }
+
+    std::string toString() const override {
+        return fmt::format("AreaLight[radiance=({}, {}, {})]", m_radiance.r(), m_radiance.g(),
+                           m_radiance.b());
+    }
+
+private:
+    Color3f m_radiance;
+};
+
+NORI_REGISTER_CLASS(AreaLight, "area");
+
+} // namespace nori

@@ -1,0 +1,64 @@
+/*
+ * point — an isotropic point light. Give either its power Φ or its intensity
+ * I = Φ/(4π); the irradiance at distance d, facing it, is I/d².
+ *
+ * Parameters:
+ *   position   point  (0, 0, 0)  where the light is
+ *   power      color  —          emitted power Φ (W)
+ *   intensity  color  —          radiant intensity I (W/sr)
+ *
+ *   <emitter type="point"><point name="position" value="0, 2, 0"/>
+ *       <color name="power" value="100, 100, 100"/></emitter>
+ */
+#include <nori/emitter.h>
+
+namespace nori {
+
+class PointLight : public Emitter {
+public:
+    explicit PointLight(const PropertyList &props) {
+        m_position = props.getPoint("position", Point3f(0.0f));
+        const bool hasPower = props.has("power"), hasIntensity = props.has("intensity");
+        if (hasPower == hasIntensity)
+            throw NoriException("point: give exactly one of 'power' and 'intensity'");
+        m_intensity =
+            hasPower ? Color3f(props.getColor("power") * kInvFourPi) : props.getColor("intensity");
+        if ((m_intensity < 0.0f).any())
+            throw NoriException("point: power and intensity must not be negative");
+    }
+
+    Color3f sample(EmitterQueryRecord &lRec, const Point2f &) const override {
+        lRec.p = m_position;
+        const Vector3f toLight = m_position - lRec.ref;
+        const float distanceSquared = toLight.squaredNorm();
+        if (distanceSquared == 0.0f)
+            return Color3f(0.0f);
+        const float distance = std::sqrt(distanceSquared);
+        lRec.wi = toLight / distance;
+        lRec.n = Normal3f(-lRec.wi);
+        // A delta distribution: the "pdf" is 1 and the weight is the incident radiance's
+        // integral, I/d².
+        lRec.pdf = 1.0f;
+        lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance * (1.0f - kShadowEpsilon));
+        return m_intensity / distanceSquared;
+    }
+
+    Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }
+    float pdf(const EmitterQueryRecord &) const override { return 0.0f; }
+    bool isDelta() const override { return true; }
+    Color3f getPower() const override { return m_intensity * (4.0f * kPi); }
+
+    std::string toString() const override {
+        return fmt::format("PointLight[position=({}, {}, {}), intensity=({}, {}, {})]",
+                           m_position.x(), m_position.y(), m_position.z(), m_intensity.r(),
+                           m_intensity.g(), m_intensity.b());
+    }
+
+private:
+    Point3f m_position;
+    Color3f m_intensity;
+};
+
+NORI_REGISTER_CLASS(PointLight, "point");
+
+} // namespace nori

@@ -1,0 +1,67 @@
+/*
+ * whitted — Nori's Whitted-style ray tracer: at a diffuse surface, emission plus one
+ * emitter sample; at a specular one (mirror, glass), continue the path with
+ * probability 0.95 (Russian roulette, dividing by 0.95) along the sampled direction.
+ *
+ * No parameters.
+ *
+ *   <integrator type="whitted"/>
+ */
+#include <nori/bsdf.h>
+#include <nori/emitter.h>
+#include <nori/integrator.h>
+#include <nori/sampler.h>
+#include <nori/scene.h>
+
+namespace nori {
+
+class WhittedIntegrator : public Integrator {
+public:
+    explicit WhittedIntegrator(const PropertyList &props) { (void)props; }
+
+    Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const override {
+        Intersection its;
+        if (!scene->rayIntersect(ray, its))
+            return Color3f(0.0f);
+        Color3f radiance(0.0f);
+        if (const Emitter *emitter = its.shape->getEmitter())
+            radiance += emitter->eval(EmitterQueryRecord(ray.o, its.p, its.geoFrame.n));
+
+        const BSDF *bsdf = its.shape->getBSDF();
+        const Vector3f wiLocal = its.toLocal(-ray.d);
+        if (bsdf->isDiffuse()) {
+            float u = sampler->next1D(), pmf;
+            const Emitter *emitter = scene->sampleEmitter(u, pmf);
+            const Point2f sample = sampler->next2D();
+            if (!emitter)
+                return radiance;
+            EmitterQueryRecord lRec(its.p);
+            const Color3f radianceOverPdf = emitter->sample(lRec, sample);
+            if ((radianceOverPdf == 0.0f).all() || scene->rayIntersect(its.spawnRayTo(lRec.p)))
+                return radiance;
+            BSDFQueryRecord bRec(wiLocal, its.toLocal(lRec.wi), ESolidAngle);
+            bRec.uv = its.uv;
+            bRec.p = its.p;
+            return radiance +
+                   bsdf->eval(bRec) * radianceOverPdf * (std::abs(Frame::cosTheta(bRec.wo)) / pmf);
+        }
+        // Specular: follow the sampled direction with probability 0.95.
+        constexpr float kContinue = 0.95f;
+        if (sampler->next1D() >= kContinue)
+            return radiance;
+        BSDFQueryRecord bRec(wiLocal);
+        bRec.uv = its.uv;
+        bRec.p = its.p;
+        const Color3f weight = bsdf->sample(bRec, sampler->next2D());
+        if ((weight == 0.0f).all())
+            return radiance;
+        return radiance +
+               weight * Li(scene, sampler, its.spawnRay(its.toWorld(bRec.wo))) / kContinue;
+    }
+
+    std::string toString() const override { return "WhittedIntegrator[]"; }
+};
+
+NORI_REGISTER_CLASS(WhittedIntegrator, "whitted");
+
+} // namespace nori

@@ -1,0 +1,123 @@
+#include <nori/bsdf.h>
+#include <nori/emitter.h>
+#include <nori/pathtracer.h>
+#include <nori/sampler.h>
+#include <nori/scene.h>
+
+namespace nori {
+
+namespace {
+
+/// Radiance an area light emits from the hit point toward `origin` (0 if none).
+Color3f emitted(const Intersection &its, const Point3f &origin) {
+    const Emitter *emitter = its.shape->getEmitter();
+    if (!emitter)
+        return Color3f(0.0f);
+    EmitterQueryRecord lRec(origin, its.p, its.geoFrame.n);
+    return emitter->eval(lRec);
+}
+
+} // namespace
+
+PathTracer::PathTracer(const PropertyList &props, Strategy strategy, int bounces, std::string name)
+    : m_strategy(strategy), m_name(std::move(name)) {
+    if (bounces > 0) {
+        m_maxDepth = bounces;
+        m_rrDepth = bounces + 1; // never
+    } else {
+        m_maxDepth = props.getInteger("maxDepth", -1);
+        m_rrDepth = props.getInteger("rrDepth", 3);
+        if (m_maxDepth == 0 || m_maxDepth < -1)
+            throw NoriException("{}: 'maxDepth' must be positive or -1 (unbounded), got {}", m_name,
+                                m_maxDepth);
+        if (m_rrDepth < 1)
+            throw NoriException("{}: 'rrDepth' must be at least 1, got {}", m_name, m_rrDepth);
+    }
+}
+
+Color3f PathTracer::sampleLight(const Scene *scene, Sampler *sampler, const Intersection &its,
+                                const BSDF &bsdf, const Vector3f &wiLocal) const {
+    float u = sampler->next1D(), pmf;
+    const Emitter *emitter = scene->sampleEmitter(u, pmf);
+    const Point2f sample = sampler->next2D();
+    if (!emitter || pmf == 0.0f)
+        return Color3f(0.0f);
+    EmitterQueryRecord lRec(its.p);
+    const Color3f radianceOverPdf = emitter->sample(lRec, sample);
+    if ((radianceOverPdf == 0.0f).all() || scene->rayIntersect(its.spawnRayTo(lRec.p)))
+        return Color3f(0.0f);
+    BSDFQueryRecord bRec(wiLocal, its.toLocal(lRec.wi), ESolidAngle);
+    bRec.uv = its.uv;
+    bRec.p = its.p;
+    const Color3f f = bsdf.eval(bRec);
+    if ((f == 0.0f).all())
+        return Color3f(0.0f);
+    Color3f contribution = f * radianceOverPdf * (std::abs(Frame::cosTheta(bRec.wo)) / pmf);
+    if (m_strategy == Strategy::MIS && !emitter->isDelta()) {
+        // Balance heuristic against BSDF sampling of the same direction.
+        const float lightPdf = pmf * lRec.pdf, bsdfPdf = bsdf.pdf(bRec);
+        contribution *= lightPdf / (lightPdf + bsdfPdf);
+    }
+    return contribution;
+}
+
+Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &cameraRay) const {
+    Color3f radiance(0.0f), throughput(1.0f);
+    Ray3f ray = cameraRay;
+    bool specularBounce = true; // the camera "bounce": emission seen directly counts fully
+    float bsdfPdf = 0.0f;       // density of the direction of `ray`, for MIS
+    Point3f previous = ray.o;
+    for (int depth = 0;; ++depth) {
+        Intersection its;
+        if (!scene->rayIntersect(ray, its))
+            break;
+
+        // Emission found by this ray: counted unless light sampling already did.
+        const Color3f le = emitted(its, previous);
+        if (!(le == 0.0f).all()) {
+            if (specularBounce || m_strategy == Strategy::BSDF) {
+                radiance += throughput * le;
+            } else if (m_strategy == Strategy::MIS) {
+                const Emitter *emitter = its.shape->getEmitter();
+                EmitterQueryRecord lRec(previous, its.p, its.geoFrame.n);
+                const float lightPdf = scene->emitterPmf(emitter) * emitter->pdf(lRec);
+                radiance += throughput * le * (bsdfPdf / (bsdfPdf + lightPdf));
+            }
+        }
+        if (m_maxDepth > 0 && depth >= m_maxDepth)
+            break;
+
+        const BSDF *bsdf = its.shape->getBSDF();
+        const Vector3f wiLocal = its.toLocal(-ray.d);
+        // Light sampling pays off only where the BSDF has a non-delta lobe.
+        if (m_strategy != Strategy::BSDF && bsdf->isDiffuse())
+            radiance += throughput * sampleLight(scene, sampler, its, *bsdf, wiLocal);
+
+        BSDFQueryRecord bRec(wiLocal);
+        bRec.uv = its.uv;
+        bRec.p = its.p;
+        const Color3f weight = bsdf->sample(bRec, sampler->next2D());
+        if ((weight == 0.0f).all())
+            break;
+        specularBounce = bRec.measure == EDiscrete || !bsdf->isDiffuse();
+        bsdfPdf = bRec.measure == EDiscrete ? 0.0f : bsdf->pdf(bRec);
+        throughput *= weight;
+        previous = its.p;
+        ray = its.spawnRay(its.toWorld(bRec.wo));
+
+        // Russian roulette: continue with probability q, and divide by it.
+        if (depth + 1 >= m_rrDepth) {
+            const float q = std::min(0.99f, throughput.maxCoeff());
+            if (sampler->next1D() >= q)
+                break;
+            throughput /= q;
+        }
+    }
+    return radiance;
+}
+
+std::string PathTracer::toString() const {
+    return fmt::format("{}[maxDepth={}, rrDepth={}]", m_name, m_maxDepth, m_rrDepth);
+}
+
+} // namespace nori

@@ -1,0 +1,166 @@
+// Integrators against analytic answers, through Nori-format ttest XML: a white furnace
+// (an emitting, reflecting sphere seen from inside), a point light over a plane (inverse
+// square law), a polygonal area light over a plane (Lambert's formula), and average
+// visibility under a sphere. Every path and direct integrator must match the reference;
+// path_mats, path_ems and path_mis therefore agree with each other.
+#include <nori/parser.h>
+#include <nori/test.h>
+
+#include "testutil.h"
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+using nori::testing::TempDir;
+
+namespace {
+
+/// Runs a ttest of `integrator` on the scene content against `reference`.
+bool tTest(const std::string &integrator, const std::string &sceneContent, double reference,
+           const std::string &directory = ".", int samples = 40000) {
+    const std::string xml = fmt::format(R"(<test type="ttest">
+        <string name="references" value="{}"/>
+        <integer name="sampleCount" value="{}"/>
+        <scene>{}{}</scene></test>)",
+                                        reference, samples, integrator, sceneContent);
+    auto test = std::dynamic_pointer_cast<Test>(loadFromXMLString(xml, directory));
+    REQUIRE(test);
+    return test->run();
+}
+
+/// A 1x1 camera with a tiny field of view at `origin`, looking at `target`.
+std::string pinpointCamera(const std::string &origin, const std::string &target,
+                           const std::string &up = "0, 1, 0") {
+    return fmt::format(R"(<camera type="perspective">
+        <integer name="width" value="1"/><integer name="height" value="1"/>
+        <float name="fov" value="0.001"/>
+        <transform name="toWorld"><lookat origin="{}" target="{}" up="{}"/></transform>
+    </camera>)",
+                       origin, target, up);
+}
+
+/// A floor of albedo 0.6: the 200 x 200 quad floor.obj at y = 0 (written by FloorDir).
+const char *kFloor = R"(<mesh type="obj"><string name="filename" value="floor.obj"/>
+    <bsdf type="diffuse"><color name="albedo" value="0.6"/></bsdf></mesh>)";
+
+/// A temporary folder holding floor.obj.
+struct FloorDir : TempDir {
+    FloorDir() {
+        write("floor.obj", "v -100 0 -100\nv -100 0 100\nv 100 0 100\nv 100 0 -100\nf 1 2 3 4\n");
+    }
+    std::string folder() const { return path().string(); }
+};
+
+const std::vector<std::string> kPathIntegrators = {"path_mats", "path_ems", "path_mis"};
+const std::vector<std::string> kDirectIntegrators = {"direct_mats", "direct_ems", "direct_mis",
+                                                     "direct", "whitted"};
+
+} // namespace
+
+TEST_CASE("White furnace: an emitting sphere of albedo a seen from inside", "[integrator][ttest]") {
+    // Every point emits Le and reflects a fraction a of what arrives, uniformly, so the
+    // radiance is Le(1 + a + a² + …) = Le/(1 − a) = 1 for Le = a = 1/2 (pbrt's analytic
+    // test). Direct lighting stops after one bounce: Le(1 + a) = 0.75.
+    const std::string scene = pinpointCamera("0.2, -0.1, 0.3", "1, 0.4, -0.2") + R"(
+        <mesh type="sphere"><float name="radius" value="1"/><boolean name="flipNormals" value="true"/>
+            <bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf>
+            <emitter type="area"><color name="radiance" value="0.5"/></emitter></mesh>)";
+    for (const std::string &name : kPathIntegrators) {
+        INFO(name);
+        CHECK(tTest("<integrator type=\"" + name + "\"/>", scene, 1.0));
+    }
+    for (const std::string &name : kDirectIntegrators) {
+        INFO(name);
+        CHECK(tTest("<integrator type=\"" + name + "\"/>", scene, 0.75));
+    }
+    // A maximum depth cuts the series: 2 bounces give Le(1 + a + a²) = 0.875.
+    CHECK(tTest(R"(<integrator type="path_mis"><integer name="maxDepth" value="2"/></integrator>)",
+                scene, 0.875));
+    // Negative control: the t-test rejects the direct-lighting value for a path tracer.
+    CHECK_FALSE(tTest("<integrator type=\"path_mis\"/>", scene, 0.75));
+}
+
+TEST_CASE("A point light over a plane follows the inverse-square law", "[integrator][ttest]") {
+    // L = (a/π) · I cos θ / d², with I = 10, a = 0.6, the light at (0.5, 2, 0) and the
+    // point seen at the origin: d² = 4.25, cos θ = 2/√4.25.
+    const double reference = 0.6 / M_PI * 10.0 * (2.0 / std::sqrt(4.25)) / 4.25;
+    FloorDir dir;
+    const std::string scene = pinpointCamera("3, 1, 2", "0, 0, 0") + kFloor + R"(
+        <emitter type="point"><point name="position" value="0.5, 2, 0"/>
+            <color name="intensity" value="10"/></emitter>)";
+    // Only strategies that sample lights can see a point light.
+    for (const char *name :
+         {"direct_ems", "direct_mis", "direct", "whitted", "path_ems", "path_mis"}) {
+        INFO(name);
+        CHECK(tTest(std::string("<integrator type=\"") + name + "\"/>", scene, reference,
+                    dir.folder()));
+    }
+    // 'power' is 4π times the intensity.
+    const std::string byPower = pinpointCamera("3, 1, 2", "0, 0, 0") + kFloor + R"(
+        <emitter type="point"><point name="position" value="0.5, 2, 0"/>
+            <color name="power" value="125.66370614"/></emitter>)";
+    CHECK(tTest("<integrator type=\"path_mis\"/>", byPower, reference, dir.folder()));
+}
+
+TEST_CASE("A polygonal area light over a plane matches Lambert's formula", "[integrator][ttest]") {
+    // A quad light at height 1.5 facing down, offset from the shaded point at the origin.
+    FloorDir dir;
+    const std::vector<Point3f> quad = {
+        {-0.2f, 1.5f, -0.4f}, {0.8f, 1.5f, -0.4f}, {0.8f, 1.5f, 0.3f}, {-0.2f, 1.5f, 0.3f}};
+    dir.write("light.obj", "v -0.2 1.5 -0.4\nv 0.8 1.5 -0.4\nv 0.8 1.5 0.3\nv -0.2 1.5 0.3\n"
+                           "f 1 2 3 4\n");
+    // Lambert (1760): E = (Le/2) Σ θᵢ (n · γᵢ), θᵢ the angle edge i subtends at the point
+    // and γᵢ the unit normal of the plane through the point and that edge.
+    const Vector3f n(0.0f, 1.0f, 0.0f);
+    double sum = 0.0;
+    for (size_t i = 0; i < quad.size(); ++i) {
+        const Vector3f a = Vector3f(quad[i]).normalized();
+        const Vector3f b = Vector3f(quad[(i + 1) % quad.size()]).normalized();
+        const double theta = std::acos(std::clamp(static_cast<double>(a.dot(b)), -1.0, 1.0));
+        sum += theta * n.dot(a.cross(b).normalized());
+    }
+    const double radiance = 3.0, albedo = 0.6;
+    const double irradiance = 0.5 * radiance * std::abs(sum);
+    const double reference = albedo / M_PI * irradiance;
+    const std::string scene = pinpointCamera("2, 1, 3", "0, 0, 0") + kFloor + R"(
+        <mesh type="obj"><string name="filename" value="light.obj"/>
+            <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+            <emitter type="area"><color name="radiance" value="3"/></emitter></mesh>)";
+    for (const auto *list : {&kPathIntegrators, &kDirectIntegrators})
+        for (const std::string &name : *list) {
+            INFO(name << " reference " << reference);
+            CHECK(tTest("<integrator type=\"" + name + "\"/>", scene, reference,
+                        dir.path().string()));
+        }
+}
+
+TEST_CASE("A spherical light over a plane (cone sampling) matches its closed form",
+          "[integrator][ttest]") {
+    // A sphere of radius r and radiance Le straight above the point, centre at height h,
+    // gives irradiance E = π Le (r/h)² (the cap's projected solid angle, sin²α).
+    const double r = 0.4, h = 1.5, radiance = 2.0, albedo = 0.6;
+    const double reference = albedo / M_PI * M_PI * radiance * (r / h) * (r / h);
+    FloorDir dir;
+    const std::string scene = pinpointCamera("3, 1, 2", "0, 0, 0") + kFloor + R"(
+        <mesh type="sphere"><point name="center" value="0, 1.5, 0"/><float name="radius" value="0.4"/>
+            <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+            <emitter type="area"><color name="radiance" value="2"/></emitter></mesh>)";
+    for (const auto *list : {&kPathIntegrators, &kDirectIntegrators})
+        for (const std::string &name : *list) {
+            INFO(name << " reference " << reference);
+            CHECK(tTest("<integrator type=\"" + name + "\"/>", scene, reference, dir.folder()));
+        }
+}
+
+TEST_CASE("Average visibility under a sphere is cos α", "[integrator][ttest]") {
+    // Uniform hemisphere directions: the sphere (r = 1 at height h = 2) covers the cap
+    // θ < α = asin(1/2), a fraction 1 − cos α of the hemisphere's solid angle.
+    FloorDir dir;
+    const std::string scene = pinpointCamera("5, 0.5, 0", "0, 0, 0") + kFloor + R"(
+        <mesh type="sphere"><point name="center" value="0, 2, 0"/></mesh>)";
+    CHECK(tTest(R"(<integrator type="av"><float name="length" value="100"/></integrator>)", scene,
+                std::cos(std::asin(0.5)), dir.folder()));
+    // Occluders beyond `length` do not count.
+    CHECK(tTest(R"(<integrator type="av"><float name="length" value="0.5"/></integrator>)", scene,
+                1.0, dir.folder()));
+}
