@@ -9,6 +9,7 @@ namespace {
 /// lobe of α = 0.05 (a peak ~1e-3 wide in cos θ) and jumps inside a bin.
 constexpr double kQuadratureTolerance = 1e-7;
 constexpr int kQuadratureDepth = 12;
+constexpr int kSubdivisions = 4;
 
 /// The 2D parameterisation of a domain: a point <-> (x, y) in the histogram's rectangle.
 struct DomainMap {
@@ -101,12 +102,18 @@ ChiSquareReport runChiSquareTest(const SamplingRoutine &routine, const ChiSquare
             const double x0 = map.x0 + bx * binWidth + dx, y0 = map.y0 + by * binHeight + dy;
             const double scale =
                 (binWidth * binHeight) / ((binWidth - 2 * dx) * (binHeight - 2 * dy));
-            const double integral =
-                scale *
-                adaptiveSimpson2D(
-                    [&](double x, double y) { return routine.pdf(map.fromRectangle(x, y)); }, x0,
-                    y0, x0 + binWidth - 2 * dx, y0 + binHeight - 2 * dy, kQuadratureTolerance,
-                    kQuadratureDepth);
+            // Adaptive Simpson refines only where its first samples see detail, so each bin
+            // starts as kSubdivisions² pieces: a small light inside a bin is not missed.
+            const double pieceWidth = (binWidth - 2 * dx) / kSubdivisions;
+            const double pieceHeight = (binHeight - 2 * dy) / kSubdivisions;
+            double integral = 0.0;
+            for (int py = 0; py < kSubdivisions; ++py)
+                for (int px = 0; px < kSubdivisions; ++px)
+                    integral += adaptiveSimpson2D(
+                        [&](double x, double y) { return routine.pdf(map.fromRectangle(x, y)); },
+                        x0 + px * pieceWidth, y0 + py * pieceHeight, x0 + (px + 1) * pieceWidth,
+                        y0 + (py + 1) * pieceHeight, kQuadratureTolerance, kQuadratureDepth);
+            integral *= scale;
             report.pdfIntegral += integral;
             report.expected[static_cast<size_t>(by) * report.xBins + bx] =
                 integral * static_cast<double>(report.sampleCount);

@@ -1,6 +1,7 @@
 /*
  * chi2test — Pearson's χ² test that sample() draws from pdf(), in Nori 2's format, for
- * every nested BSDF, phase function and emitter. Each is tested `testCount` times (BSDFs
+ * every nested BSDF, phase function and emitter (an area light is given as the <mesh>
+ * it is nested in). Each is tested `testCount` times (BSDFs
  * and phase functions for random incident directions, emitters from random reference
  * points); the significance level is Šidák-corrected over all tests.
  *
@@ -57,6 +58,15 @@ public:
         case EEmitter:
             m_subjects.push_back(child);
             break;
+        case EMesh: {
+            // A shape carrying an area light: test that light (its sampling needs the shape).
+            auto emitter = std::static_pointer_cast<Shape>(child)->getEmitterPtr();
+            if (!emitter)
+                throw NoriException("chi2test: a nested <mesh> must carry an <emitter> to test");
+            m_subjects.push_back(emitter);
+            m_shapes.push_back(child);
+            break;
+        }
         default:
             NoriObject::addChild(child, name);
         }
@@ -113,7 +123,8 @@ private:
                                wi.y(), wi.z());
             return phaseRoutine(static_cast<const PhaseFunction &>(subject), wi);
         }
-        // Emitters: reference points on a sphere twice the size of the light's bounds.
+        // Emitters: reference points at a distance of the light's bounding-box diagonal
+        // from its centre, near enough that the light covers several histogram bins.
         const auto &emitter = static_cast<const Emitter &>(subject);
         Point3f center(0.0f);
         float radius = 1.0f;
@@ -121,7 +132,7 @@ private:
             center = shape->getBoundingBox().getCenter();
             radius = std::max(shape->getBoundingBox().getExtents().norm(), 1e-3f);
         }
-        const Point3f ref = center + 2.0f * radius * Warp::squareToUniformSphere(u);
+        const Point3f ref = center + radius * Warp::squareToUniformSphere(u);
         what = fmt::format("{} from ref = ({:.3f}, {:.3f}, {:.3f})", subject.toString(), ref.x(),
                            ref.y(), ref.z());
         return emitterRoutine(emitter, ref);
@@ -130,6 +141,7 @@ private:
     ChiSquareOptions m_options;
     int m_testCount;
     std::vector<std::shared_ptr<NoriObject>> m_subjects;
+    std::vector<std::shared_ptr<NoriObject>> m_shapes; ///< keep area lights' shapes alive
 };
 
 NORI_REGISTER_CLASS(ChiSquareTestPlugin, "chi2test");
