@@ -80,6 +80,28 @@ TEST_CASE("White furnace: an emitting sphere of albedo a seen from inside", "[in
     CHECK_FALSE(tTest("<integrator type=\"path_mis\"/>", scene, 0.75));
 }
 
+TEST_CASE("White furnace: inside a closed box that emits and reflects", "[integrator][ttest]") {
+    // The same series inside a cube of 12 triangles (sampled by area, not by a cone):
+    // Le/(1 − a) for the path tracers, Le(1 + a) for direct lighting.
+    TempDir dir;
+    dir.write("box.obj", "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n"
+                         "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+                         // Faces wound so their normals point into the box.
+                         "f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 4 3 7 8\nf 1 4 8 5\nf 2 6 7 3\n");
+    const std::string scene = pinpointCamera("0.3, 0.2, -0.1", "-1, 0.5, 0.4") + R"(
+        <mesh type="obj"><string name="filename" value="box.obj"/>
+            <bsdf type="diffuse"><color name="albedo" value="0.6"/></bsdf>
+            <emitter type="area"><color name="radiance" value="0.4"/></emitter></mesh>)";
+    for (const std::string &name : kPathIntegrators) {
+        INFO(name);
+        CHECK(tTest("<integrator type=\"" + name + "\"/>", scene, 1.0, dir.path().string()));
+    }
+    for (const std::string &name : kDirectIntegrators) {
+        INFO(name);
+        CHECK(tTest("<integrator type=\"" + name + "\"/>", scene, 0.4 * 1.6, dir.path().string()));
+    }
+}
+
 TEST_CASE("A point light over a plane follows the inverse-square law", "[integrator][ttest]") {
     // L = (a/π) · I cos θ / d², with I = 10, a = 0.6, the light at (0.5, 2, 0) and the
     // point seen at the origin: d² = 4.25, cos θ = 2/√4.25.
