@@ -35,8 +35,8 @@ PathTracer::PathTracer(const PropertyList &props, Strategy strategy, int bounces
     }
 }
 
-Color3f PathTracer::sampleLight(const Scene *scene, Sampler *sampler, const Intersection &its,
-                                const BSDF &bsdf, const Vector3f &wiLocal) const {
+Color3f sampleDirectLight(const Scene *scene, Sampler *sampler, const Intersection &its,
+                          const BSDF &bsdf, const Vector3f &wiLocal, bool mis) {
     float u = sampler->next1D(), pmf;
     const Emitter *emitter = scene->sampleEmitter(u, pmf);
     const Point2f sample = sampler->next2D();
@@ -53,7 +53,7 @@ Color3f PathTracer::sampleLight(const Scene *scene, Sampler *sampler, const Inte
     if ((f == 0.0f).all())
         return Color3f(0.0f);
     Color3f contribution = f * radianceOverPdf * (std::abs(Frame::cosTheta(bRec.wo)) / pmf);
-    if (m_strategy == Strategy::MIS && !emitter->isDelta()) {
+    if (mis && !emitter->isDelta()) {
         // Balance heuristic against BSDF sampling of the same direction.
         const float lightPdf = pmf * lRec.pdf, bsdfPdf = bsdf.pdf(bRec);
         contribution *= lightPdf / (lightPdf + bsdfPdf);
@@ -91,7 +91,8 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
         const Vector3f wiLocal = its.toLocal(-ray.d);
         // Light sampling pays off only where the BSDF has a non-delta lobe.
         if (m_strategy != Strategy::BSDF && bsdf->isDiffuse())
-            radiance += throughput * sampleLight(scene, sampler, its, *bsdf, wiLocal);
+            radiance += throughput * sampleDirectLight(scene, sampler, its, *bsdf, wiLocal,
+                                                       m_strategy == Strategy::MIS);
 
         BSDFQueryRecord bRec(wiLocal);
         bRec.uv = its.uv;

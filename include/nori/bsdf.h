@@ -38,6 +38,15 @@ public:
     virtual bool isDiffuse() const { return false; }
 
     EClassType getClassType() const override { return kClassType; }
+
+protected:
+    /// eval·|cos θo|/pdf for the direction a sample() just chose, or 0 where the density
+    /// vanishes: the weight of every BSDF that samples a mixture or a microfacet normal.
+    Color3f sampleWeight(const BSDFQueryRecord &bRec) const {
+        const float density = pdf(bRec);
+        return density > 0.0f ? Color3f(eval(bRec) * (std::abs(bRec.wo.z()) / density))
+                              : Color3f(0.0f);
+    }
 };
 
 } // namespace nori

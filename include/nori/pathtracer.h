@@ -9,7 +9,16 @@
 namespace nori {
 
 class BSDF;
+class Sampler;
+class Scene;
 struct Intersection;
+
+/// One light sample at the surface point `its` (next-event estimation): picks a light by
+/// power, samples a point on it, tests visibility and returns its contribution
+/// f·L·|cos θ|/(pdf·pmf) toward wiLocal. With `mis`, the contribution carries the
+/// balance-heuristic weight against BSDF sampling (delta lights keep weight 1).
+Color3f sampleDirectLight(const Scene *scene, Sampler *sampler, const Intersection &its,
+                          const BSDF &bsdf, const Vector3f &wiLocal, bool mis);
 
 class PathTracer : public Integrator {
 public:
@@ -27,11 +36,6 @@ public:
     std::string toString() const override;
 
 private:
-    /// One light sample at the vertex `its` (direct lighting toward wi), with the MIS
-    /// weight when the strategy is MIS.
-    Color3f sampleLight(const Scene *scene, Sampler *sampler, const Intersection &its,
-                        const BSDF &bsdf, const Vector3f &wiLocal) const;
-
     Strategy m_strategy;
     int m_maxDepth; ///< bounces after the camera ray; −1 for no limit
     int m_rrDepth;  ///< Russian roulette from this bounce on

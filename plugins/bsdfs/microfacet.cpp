@@ -72,8 +72,7 @@ public:
         }
         if (Frame::cosTheta(bRec.wo) <= 0.0f)
             return Color3f(0.0f);
-        const float density = pdf(bRec);
-        return density > 0.0f ? eval(bRec) * Frame::cosTheta(bRec.wo) / density : Color3f(0.0f);
+        return sampleWeight(bRec);
     }
 
     bool isDiffuse() const override { return true; }

@@ -57,8 +57,7 @@ public:
         bRec.eta = 1.0f;
         if (Frame::cosTheta(bRec.wo) <= 0.0f)
             return Color3f(0.0f);
-        const float density = pdf(bRec);
-        return density > 0.0f ? eval(bRec) * Frame::cosTheta(bRec.wo) / density : Color3f(0.0f);
+        return sampleWeight(bRec);
     }
 
     /// Not a delta distribution, so integrators should sample lights here too.

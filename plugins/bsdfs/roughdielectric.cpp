@@ -99,9 +99,7 @@ public:
         const bool sameSide = Frame::cosTheta(bRec.wo) * cosI > 0.0f;
         if (sameSide != reflection)
             return Color3f(0.0f);
-        const float density = pdf(bRec);
-        return density > 0.0f ? eval(bRec) * std::abs(Frame::cosTheta(bRec.wo)) / density
-                              : Color3f(0.0f);
+        return sampleWeight(bRec);
     }
 
     /// Not a delta distribution, so integrators should sample lights here too.

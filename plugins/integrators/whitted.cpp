@@ -10,6 +10,7 @@
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/integrator.h>
+#include <nori/pathtracer.h>
 #include <nori/sampler.h>
 #include <nori/scene.h>
 
@@ -29,22 +30,8 @@ public:
 
         const BSDF *bsdf = its.shape->getBSDF();
         const Vector3f wiLocal = its.toLocal(-ray.d);
-        if (bsdf->isDiffuse()) {
-            float u = sampler->next1D(), pmf;
-            const Emitter *emitter = scene->sampleEmitter(u, pmf);
-            const Point2f sample = sampler->next2D();
-            if (!emitter)
-                return radiance;
-            EmitterQueryRecord lRec(its.p);
-            const Color3f radianceOverPdf = emitter->sample(lRec, sample);
-            if ((radianceOverPdf == 0.0f).all() || scene->rayIntersect(its.spawnRayTo(lRec.p)))
-                return radiance;
-            BSDFQueryRecord bRec(wiLocal, its.toLocal(lRec.wi), ESolidAngle);
-            bRec.uv = its.uv;
-            bRec.p = its.p;
-            return radiance +
-                   bsdf->eval(bRec) * radianceOverPdf * (std::abs(Frame::cosTheta(bRec.wo)) / pmf);
-        }
+        if (bsdf->isDiffuse())
+            return radiance + sampleDirectLight(scene, sampler, its, *bsdf, wiLocal, false);
         // Specular: follow the sampled direction with probability 0.95.
         constexpr float kContinue = 0.95f;
         if (sampler->next1D() >= kContinue)
