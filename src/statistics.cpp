@@ -11,6 +11,11 @@ constexpr double kTiny = 1e-300;
 constexpr double kRelativeEpsilon = 1e-15;
 constexpr int kMaxIterations = 100000;
 
+/// Lentz's guard against division by zero in continued fractions (NR eq. 5.2.21).
+double avoidZero(double value) {
+    return std::abs(value) < kTiny ? kTiny : value;
+}
+
 /// P(a, x) by its series, for x < a + 1 (NR 3rd ed. eq. 6.2.5).
 double gammaSeries(double a, double x) {
     double term = 1.0 / a, sum = term;
@@ -30,9 +35,9 @@ double gammaContinuedFraction(double a, double x) {
         const double an = -i * (i - a);
         b += 2.0;
         d = an * d + b;
-        d = std::abs(d) < kTiny ? kTiny : d;
+        d = avoidZero(d);
         c = b + an / c;
-        c = std::abs(c) < kTiny ? kTiny : c;
+        c = avoidZero(c);
         d = 1.0 / d;
         const double delta = d * c;
         h *= delta;
@@ -46,23 +51,23 @@ double gammaContinuedFraction(double a, double x) {
 double betaContinuedFraction(double a, double b, double x) {
     const double qab = a + b, qap = a + 1.0, qam = a - 1.0;
     double c = 1.0, d = 1.0 - qab * x / qap;
-    d = std::abs(d) < kTiny ? kTiny : d;
+    d = avoidZero(d);
     d = 1.0 / d;
     double h = d;
     for (int m = 1; m < kMaxIterations; ++m) {
         const int m2 = 2 * m;
         double aa = m * (b - m) * x / ((qam + m2) * (a + m2));
         d = 1.0 + aa * d;
-        d = std::abs(d) < kTiny ? kTiny : d;
+        d = avoidZero(d);
         c = 1.0 + aa / c;
-        c = std::abs(c) < kTiny ? kTiny : c;
+        c = avoidZero(c);
         d = 1.0 / d;
         h *= d * c;
         aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
         d = 1.0 + aa * d;
-        d = std::abs(d) < kTiny ? kTiny : d;
+        d = avoidZero(d);
         c = 1.0 + aa / c;
-        c = std::abs(c) < kTiny ? kTiny : c;
+        c = avoidZero(c);
         d = 1.0 / d;
         const double delta = d * c;
         h *= delta;
