@@ -53,6 +53,15 @@ TEST_CASE("nori renders a scene to EXR and PNG next to it", "[cli]") {
         CHECK(Bitmap::load(out).width() == 24);
         CHECK(std::filesystem::exists(dir.path() / "renders" / "out.png"));
         CHECK_THAT(custom.output, !Contains("Rendering:"));
+        CHECK_THAT(custom.output, !Contains("Warning: -D"));
+    }
+
+    SECTION("a -D that the scene never uses is a warning naming it") {
+        auto unused = runNori({"-D", "sppp=8", "--no-progress", scene});
+        INFO(unused.output);
+        REQUIRE(unused.exitCode == 0);
+        CHECK_THAT(unused.output, Contains("Warning: -D sppp=8 is not used") &&
+                                      Contains("scene.xml has no $sppp"));
     }
 }
 

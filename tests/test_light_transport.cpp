@@ -102,6 +102,57 @@ TEST_CASE("White furnace: inside a closed box that emits and reflects", "[integr
     }
 }
 
+TEST_CASE("White furnace: a box whose vertex normals point inward, against its winding",
+          "[integrator][ttest]") {
+    // The course's furnace: the triangles wind outward but every `vn` points into the box,
+    // and the normals decide the front side (Nori 2, pbrt). With Le = 1 and albedo 1/2
+    // the box glows Le/(1 − a) = 2 for path tracers and Le(1 + a) = 1.5 for direct
+    // lighting. Before the fix it was black (mean 1e-13).
+    TempDir dir;
+    dir.write("box.obj", "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n"
+                         "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+                         "vn 0 0 1\nvn 0 0 -1\nvn 0 1 0\nvn 0 -1 0\nvn 1 0 0\nvn -1 0 0\n"
+                         // Wound outward (−z face: 1 4 3 2 has normal −z), vn inward.
+                         "f 1//1 4//1 3//1 2//1\nf 5//2 6//2 7//2 8//2\n"
+                         "f 1//3 2//3 6//3 5//3\nf 4//4 8//4 7//4 3//4\n"
+                         "f 1//5 5//5 8//5 4//5\nf 2//6 3//6 7//6 6//6\n");
+    const std::string scene = pinpointCamera("0.3, 0.2, -0.1", "-1, 0.5, 0.4") + R"(
+        <mesh type="obj"><string name="filename" value="box.obj"/>
+            <bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf>
+            <emitter type="area"><color name="radiance" value="1"/></emitter></mesh>)";
+    for (const std::string &name : kPathIntegrators) {
+        INFO(name);
+        CHECK(tTest("<integrator type=\"" + name + "\"/>", scene, 2.0, dir.path().string()));
+    }
+    for (const std::string &name : kDirectIntegrators) {
+        INFO(name);
+        CHECK(tTest("<integrator type=\"" + name + "\"/>", scene, 1.5, dir.path().string()));
+    }
+    // Negative control: the dark box (the old behaviour) is rejected.
+    CHECK_FALSE(tTest("<integrator type=\"path_mis\"/>", scene, 0.0, dir.path().string()));
+}
+
+TEST_CASE("ttest: a deterministic estimate passes against a reference rounded as staff do",
+          "[integrator][ttest]") {
+    // A 1x1 camera with a fov of 1e-9 degrees sees one point; a point light makes every
+    // sample the same value, exactly (a/π)·I·cos θ/d². Staff files give it to 4 digits.
+    const double exact = 0.6 / M_PI * 10.0 * (2.0 / std::sqrt(4.25)) / 4.25;
+    const double rounded = std::round(exact * 1e4) / 1e4;
+    REQUIRE(rounded != exact);
+    FloorDir dir;
+    const std::string scene = R"(<camera type="perspective">
+        <integer name="width" value="1"/><integer name="height" value="1"/>
+        <float name="fov" value="1e-9"/>
+        <transform name="toWorld"><lookat origin="3, 1, 2" target="0, 0, 0"/></transform>
+    </camera>)" + std::string(kFloor) +
+                              R"(<emitter type="point"><point name="position" value="0.5, 2, 0"/>
+            <color name="intensity" value="10"/></emitter>)";
+    CHECK(tTest("<integrator type=\"direct\"/>", scene, rounded, dir.folder(), 10000));
+    // Nori 2's variance floor of 1e-5 makes t = |mean − reference|·√(n/1e-5): the
+    // rounding (< 5e-5) gives t < 1.6, a 1% error (4.4e-3) gives t = 138: rejected.
+    CHECK_FALSE(tTest("<integrator type=\"direct\"/>", scene, exact * 1.01, dir.folder(), 10000));
+}
+
 TEST_CASE("A point light over a plane follows the inverse-square law", "[integrator][ttest]") {
     // L = (a/π) · I cos θ / d², with I = 10, a = 0.6, the light at (0.5, 2, 0) and the
     // point seen at the origin: d² = 4.25, cos θ = 2/√4.25.

@@ -52,6 +52,27 @@ TEST_CASE("OBJ: a triangle without normals or uvs", "[obj]") {
     CHECK(its.uv.isApprox(Point2f(0.25f, 0.25f)));
 }
 
+TEST_CASE("OBJ: vertex normals decide the front side, whatever the winding", "[obj]") {
+    // Wound counter-clockwise seen from +z (normal +z), but the normals point to −z.
+    TempDir dir;
+    auto mesh = loadObj(dir, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 -1\nf 1//1 2//1 3//1\n");
+    Intersection its;
+    float t;
+    Point2f coords;
+    const Ray3f ray(Point3f(0.25f, 0.25f, -1.0f), Vector3f(0, 0, 1));
+    REQUIRE(mesh->rayIntersect(0, ray, t, coords));
+    its.t = t;
+    mesh->setHitInformation(0, ray, coords, its);
+    CHECK(its.shFrame.n.isApprox(Normal3f(0, 0, -1)));
+    CHECK(its.geoFrame.n.isApprox(Normal3f(0, 0, -1)));
+    // Points sampled for area lights carry the same normal.
+    for (float u : {0.1f, 0.5f, 0.9f})
+        CHECK(mesh->sampleSurface(Point2f(u, 0.3f)).n.isApprox(Normal3f(0, 0, -1)));
+    // Without normals the winding decides.
+    auto plain = loadObj(dir, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    CHECK(plain->sampleSurface(Point2f(0.5f, 0.5f)).n.isApprox(Normal3f(0, 0, 1)));
+}
+
 TEST_CASE("OBJ: quads and convex polygons become fans; corners are shared", "[obj]") {
     TempDir dir;
     auto quad = loadObj(dir, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");

@@ -61,6 +61,23 @@ TEST_CASE("Distribution functions match published tables", "[statistics]") {
     CHECK(sidakCorrection(0.05, 10) == Approx(0.0051162).epsilon(1e-4));
 }
 
+TEST_CASE("Student's t-test computes Nori 2's statistic with its variance floor",
+          "[statistics]") {
+    // t = |mean − ref|·√(n / max(variance, 1e-5)).
+    const StudentTResult noisy = studentTTest(0.51, 0.04, 400, 0.5, 0.01);
+    CHECK(noisy.t == Approx(0.01 * std::sqrt(400 / 0.04)));
+    CHECK(noisy.passed); // t = 1
+    // A zero-variance estimate uses the floor: 0.0631777 vs the staff's 0.06317.
+    const StudentTResult exact = studentTTest(0.0631777, 0.0, 100000, 0.06317, 0.01);
+    CHECK(exact.t == Approx(7.7e-6 * std::sqrt(100000 / 1e-5)).epsilon(1e-3));
+    CHECK(exact.passed);
+    // Negative control: the same estimate against a reference 1e-4 away, t = 10.
+    CHECK_FALSE(studentTTest(0.0631777, 0.0, 100000, 0.0630777, 0.01).passed);
+    // p-value of t = 1.984 with 100 degrees of freedom, two-sided: 0.05.
+    CHECK(studentTTest(1.0 + 1.984 / std::sqrt(101.0), 1.0, 101, 1.0, 0.01).pValue ==
+          Approx(0.05).margin(1e-4));
+}
+
 TEST_CASE("Adaptive Simpson integrates smooth and kinked functions", "[statistics]") {
     CHECK(adaptiveSimpson2D([](double x, double y) { return x * y; }, 0, 0, 1, 1) ==
           Approx(0.25).epsilon(1e-10));

@@ -12,6 +12,11 @@ class Camera : public NoriObject {
 public:
     static constexpr EClassType kClassType = ECamera;
 
+    /// Which way the image's x axis runs in camera space (the two Nori course lineages
+    /// differ). EPFL: Nori 2 and Mitsuba mirror x, camera-space +x is the image's left;
+    /// the default. ETH: no mirror, camera-space +x is the image's right.
+    enum class Convention { EPFL, ETH };
+
     /// Generates a world-space ray for film position `samplePosition` (pixels, from the
     /// top-left corner) and returns the importance weight of the ray.
     virtual Color3f sampleRay(Ray3f &ray, const Point2f &samplePosition,
@@ -28,6 +33,18 @@ public:
     EClassType getClassType() const override { return kClassType; }
 
 protected:
+    /// Reads the `convention` parameter ("epfl", the default, or "eth"); `nori
+    /// --camera-convention` sets it for cameras whose XML does not.
+    static Convention readConvention(const PropertyList &props);
+    /// The camera-space x of the film's horizontal position u in [0, 1], on the plane
+    /// where the film spans x in [−1, 1]: 1 − 2u (EPFL) or 2u − 1 (ETH).
+    static float filmX(float u, Convention convention) {
+        return convention == Convention::EPFL ? 1.0f - 2.0f * u : 2.0f * u - 1.0f;
+    }
+    static const char *conventionName(Convention convention) {
+        return convention == Convention::EPFL ? "epfl" : "eth";
+    }
+
     Vector2i m_outputSize;
     std::shared_ptr<ReconstructionFilter> m_rfilter;
 };

@@ -24,7 +24,8 @@ public:
 
     float surfaceArea(uint32_t index) const;
     float getArea() const override { return m_triangleAreas.getSum(); }
-    /// A triangle chosen by area, then a uniform point on it (PBR 4th ed. §6.5.4).
+    /// A triangle chosen by area, then a uniform point on it (PBR 4th ed. §6.5.4); the
+    /// normal is the geometric one on the side of the vertex normals.
     ShapeSample sampleSurface(const Point2f &sample) const override;
 
     const std::vector<Point3f> &getVertexPositions() const { return m_positions; }
@@ -36,6 +37,13 @@ public:
     std::string toString() const override;
 
 protected:
+    /// The interpolated vertex normal at barycentrics (b1, b2) of a triangle, unit
+    /// length, or zero when the mesh has no normals (or they cancel).
+    Vector3f interpolatedNormal(uint32_t index, float b1, float b2) const;
+    /// The geometric normal, flipped into the hemisphere of the interpolated vertex
+    /// normal where the mesh has normals: the front side is where the normals point.
+    Vector3f faceForward(const Vector3f &geoNormal, uint32_t index, float b1, float b2) const;
+
     /// Applies toWorld to the vertex data, drops triangles that are degenerate (zero
     /// area) or have non-finite vertices, with a warning that counts them, and computes
     /// the bounding box. Normals and texture coordinates are optional (empty) but, when

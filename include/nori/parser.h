@@ -5,18 +5,33 @@
 #include <nori/object.h>
 
 #include <map>
+#include <vector>
 
 namespace nori {
 
 using Defines = std::map<std::string, std::string>;
 
-/// Loads the XML file and returns its activated root object (a scene or a test).
-/// `defines` set $name variables and win over <default> elements. Every error is a
-/// NoriException whose message starts with "file:line:col: ".
-std::shared_ptr<NoriObject> loadFromXML(const std::string &filename, const Defines &defines = {});
+/// How a file is read: what the command line adds to it.
+struct LoadOptions {
+    /// $name variables; they win over <default> elements.
+    Defines defines;
+    /// The `convention` ("epfl" or "eth") of every camera that does not set its own;
+    /// empty: each camera's default (see camera.h).
+    std::string cameraConvention;
+    /// When set, receives the names of `defines` that no $name in the files used.
+    std::vector<std::string> *unusedDefines = nullptr;
+
+    LoadOptions() = default;
+    LoadOptions(Defines defines) : defines(std::move(defines)) {} // NOLINT: implicit on purpose
+};
+
+/// Loads the XML file and returns its activated root object (a scene or a test). Every
+/// error is a NoriException whose message starts with "file:line:col: ".
+std::shared_ptr<NoriObject> loadFromXML(const std::string &filename,
+                                        const LoadOptions &options = {});
 /// As loadFromXML, for XML text; relative file names resolve against `directory`.
 std::shared_ptr<NoriObject> loadFromXMLString(const std::string &xml,
                                               const std::string &directory = ".",
-                                              const Defines &defines = {});
+                                              const LoadOptions &options = {});
 
 } // namespace nori

@@ -62,6 +62,8 @@ public:
 
     /// Whether the property exists; records the name as one the plugin knows.
     bool has(const std::string &name) const;
+    /// Whether the property exists, without recording anything (for the parser).
+    bool contains(const std::string &name) const { return m_properties.count(name) != 0; }
     /// "file:line:col" of a property, or "" when unknown.
     std::string location(const std::string &name) const;
 

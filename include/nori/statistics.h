@@ -52,8 +52,15 @@ struct StudentTResult {
     std::string message;
 };
 
+/// The smallest sample variance the t-test uses (Nori 2's value): a deterministic
+/// estimate then passes when |mean − reference| is below about 4·√(1e-5/n), which
+/// absorbs the rounding of references given to 4–5 digits.
+constexpr double kTTestVarianceFloor = 1e-5;
+
 /// Two-sided one-sample t-test of a Monte Carlo mean (from n samples of the given
-/// sample variance) against a reference value.
+/// sample variance) against a reference value, as Nori 2 defines it:
+/// t = |mean − reference|·√(n / max(variance, kTTestVarianceFloor)), n − 1 degrees of
+/// freedom.
 StudentTResult studentTTest(double mean, double variance, size_t sampleCount, double reference,
                             double significanceLevel);
 

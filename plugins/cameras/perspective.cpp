@@ -1,15 +1,17 @@
 /*
- * perspective — a pinhole camera, as Nori's: it looks along +z of its local frame
- * with +y up and +x to the left of the image (Nori scenes mirror x in toWorld).
+ * perspective — a pinhole camera, as Nori's: it looks along +z of its local frame with
+ * +y up; camera-space +x is the image's left (EPFL's Nori 2) or right (ETH's). A nested
+ * <rfilter> replaces the default gaussian filter.
  *
  * Parameters:
- *   width     integer    1280      image width in pixels
- *   height    integer    720       image height in pixels
- *   fov       float      30        horizontal field of view in degrees, in (0, 180)
- *   nearClip  float      1e-4      distance of the near clipping plane
- *   farClip   float      1e4       distance of the far clipping plane
- *   toWorld   transform  identity  camera-to-world transform
- *   A nested <rfilter> replaces the default gaussian filter.
+ *   width       integer    1280      image width in pixels
+ *   height      integer    720       image height in pixels
+ *   fov         float      30        horizontal field of view in degrees, in (0, 180)
+ *   nearClip    float      1e-4      distance of the near clipping plane
+ *   farClip     float      1e4       distance of the far clipping plane
+ *   toWorld     transform  identity  camera-to-world transform
+ *   convention  string     "epfl"    "epfl": x mirrored (Nori 2, Mitsuba); "eth": not
+ *                                    mirrored (the ETH course); see nori --camera-convention
  *
  *   <camera type="perspective">
  *       <transform name="toWorld"><lookat origin="0,0,4" target="0,0,0" up="0,1,0"/></transform>
@@ -30,6 +32,7 @@ public:
         m_nearClip = props.getFloat("nearClip", 1e-4f);
         m_farClip = props.getFloat("farClip", 1e4f);
         m_cameraToWorld = props.getTransform("toWorld", Transform());
+        m_convention = readConvention(props);
 
         if (m_outputSize.x() <= 0 || m_outputSize.y() <= 0)
             throw NoriException("perspective: 'width' and 'height' must be positive, got {}x{}",
@@ -48,10 +51,10 @@ public:
                       const Point2f &apertureSample) const override {
         (void)apertureSample;
         // Film position to a point on the plane z = 1 of camera space; the horizontal
-        // field of view spans x in [-tan(fov/2), tan(fov/2)], +x to the image's left.
+        // field of view spans x in [-tan(fov/2), tan(fov/2)].
         const float u = samplePosition.x() / static_cast<float>(m_outputSize.x());
         const float v = samplePosition.y() / static_cast<float>(m_outputSize.y());
-        const Vector3f d = Vector3f((1.0f - 2.0f * u) * m_tanHalfFov,
+        const Vector3f d = Vector3f(filmX(u, m_convention) * m_tanHalfFov,
                                     (1.0f - 2.0f * v) * m_tanHalfFov / m_aspect, 1.0f)
                                .normalized();
         // The clip planes are planes z = const, so the ray's extent depends on d.z.
@@ -63,8 +66,9 @@ public:
 
     std::string toString() const override {
         return fmt::format("PerspectiveCamera[size={}x{}, fov={}, nearClip={}, farClip={}, "
-                           "rfilter={}, toWorld=\n{}]",
+                           "convention={}, rfilter={}, toWorld=\n{}]",
                            m_outputSize.x(), m_outputSize.y(), m_fov, m_nearClip, m_farClip,
+                           conventionName(m_convention),
                            m_rfilter ? m_rfilter->toString() : "none", m_cameraToWorld.toString());
     }
 
@@ -72,6 +76,7 @@ private:
     float m_fov, m_nearClip, m_farClip;
     float m_tanHalfFov, m_aspect;
     Transform m_cameraToWorld;
+    Convention m_convention;
 };
 
 NORI_REGISTER_CLASS(PerspectiveCamera, "perspective");

@@ -1,7 +1,9 @@
 /*
  * area — a diffuse area light: constant radiance leaving the front side of the shape it
- * is nested in (the side its normals point to). Points are sampled by the shape: by
- * area for meshes, through the subtended cone for spheres.
+ * is nested in: the side its vertex normals point to (as Nori 2 and pbrt decide, even
+ * when the triangles wind the other way), else the side of its winding's normal.
+ * Points are sampled by the shape: by area for meshes, through the subtended cone for
+ * spheres.
  *
  * Parameters:
  *   radiance  color  (required)  emitted radiance

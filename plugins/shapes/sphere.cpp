@@ -1,6 +1,7 @@
 /*
- * sphere — an analytic sphere. uv are spherical coordinates: u = φ/2π around +z,
- * v = θ/π from +z.
+ * sphere — an analytic sphere. uv as the course defines them: with n the unit normal,
+ * u = 0.5 + atan2(n.y, n.x)/2π around +z and v = 0.5 + asin(n.z)/π from the south pole
+ * (v = 0) to the north pole (v = 1).
  *
  * As an area light it is sampled through the cone of directions it subtends
  * (PBR 4th ed. §6.2.4) when the reference point is outside, by area otherwise.
@@ -74,16 +75,18 @@ public:
         its.primIndex = 0;
         its.shape = this;
 
+        // Longitude φ and latitude β: u = 0.5 + φ/2π, v = 0.5 + β/π.
         const float phi = std::atan2(n.y(), n.x());
-        const float theta = std::acos(std::clamp(n.z(), -1.0f, 1.0f));
-        its.uv = Point2f((phi < 0.0f ? phi + 2.0f * kPi : phi) * kInvTwoPi, theta * kInvPi);
+        const float sinBeta = std::clamp(n.z(), -1.0f, 1.0f);
+        const float cosBeta = safeSqrt(1.0f - sinBeta * sinBeta);
+        its.uv = Point2f(0.5f + phi * kInvTwoPi, 0.5f + std::asin(sinBeta) * kInvPi);
 
-        // ∂p/∂u = 2π r (−sinθ sinφ, sinθ cosφ, 0); ∂p/∂v = π r (cosθ cosφ, cosθ sinφ, −sinθ).
-        const float sinTheta = std::sin(theta), cosTheta = std::cos(theta);
-        its.dpdu = 2.0f * kPi * m_radius *
-                   Vector3f(-sinTheta * std::sin(phi), sinTheta * std::cos(phi), 0.0f);
-        its.dpdv = kPi * m_radius *
-                   Vector3f(cosTheta * std::cos(phi), cosTheta * std::sin(phi), -sinTheta);
+        // p = c + r (cos β cos φ, cos β sin φ, sin β), with φ = 2π(u − ½), β = π(v − ½):
+        // ∂p/∂u = 2π r (−cos β sin φ, cos β cos φ, 0); ∂p/∂v = π r (−sin β cos φ, −sin β sin φ, cos β).
+        const float sinPhi = std::sin(phi), cosPhi = std::cos(phi);
+        its.dpdu = 2.0f * kPi * m_radius * Vector3f(-cosBeta * sinPhi, cosBeta * cosPhi, 0.0f);
+        its.dpdv =
+            kPi * m_radius * Vector3f(-sinBeta * cosPhi, -sinBeta * sinPhi, cosBeta);
 
         // Tangent along ∂p/∂u where it exists (not at the poles).
         const Vector3f normal = side * n;

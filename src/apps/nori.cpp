@@ -34,8 +34,11 @@ test file (root element <test>) and exits 0 when it passes, 1 when it fails.
 Options:
   -D name=value      define $name for the XML file (wins over <default>); repeatable
   -o, --output FILE  write FILE.exr and FILE.png instead (an .exr/.png suffix is dropped)
-  -t, --threads N    number of worker threads (default: all cores)
+  -t, --threads N    number of worker threads, 1 to 1024 (default: all cores)
   --spp N            samples per pixel, overriding the scene's sampler
+  --camera-convention epfl|eth
+                     which way image x runs for cameras that do not say: epfl (x
+                     mirrored, Nori 2's default) or eth (the ETH course's Nori)
   --no-progress      no progress bar
   --list-plugins     print every registered plugin by kind and exit
   -h, --help         this text
@@ -44,10 +47,14 @@ On Ctrl-C the blocks finished so far are written to <file>_partial.exr/.png and 
 exits with status 130.
 )";
 
+/// More threads than this is a mistake, not a machine (TBB fails far above it).
+constexpr int kMaxThreads = 1024;
+
 struct Options {
     std::string sceneFile;
     std::string output;
     Defines defines;
+    std::string cameraConvention;
     int threads = 0;
     size_t samplesPerPixel = 0;
     bool showProgress = true;
@@ -81,6 +88,14 @@ Options parseCommandLine(int argc, char **argv) {
             options.output = value(arg);
         } else if (arg == "-t" || arg == "--threads") {
             options.threads = parsePositive(value(arg), arg);
+            if (options.threads > kMaxThreads)
+                throw NoriException("{} must be at most {}, got {}", arg, kMaxThreads,
+                                    options.threads);
+        } else if (arg == "--camera-convention") {
+            options.cameraConvention = value(arg);
+            if (options.cameraConvention != "epfl" && options.cameraConvention != "eth")
+                throw NoriException("--camera-convention must be 'epfl' or 'eth', got '{}'",
+                                    options.cameraConvention);
         } else if (arg == "--spp") {
             options.samplesPerPixel = static_cast<size_t>(parsePositive(value(arg), arg));
         } else if (arg.rfind("-D", 0) == 0) {
@@ -175,7 +190,14 @@ int run(int argc, char **argv) {
         return 1;
     }
 
-    std::shared_ptr<NoriObject> root = loadFromXML(options.sceneFile, options.defines);
+    LoadOptions loadOptions(options.defines);
+    loadOptions.cameraConvention = options.cameraConvention;
+    std::vector<std::string> unusedDefines;
+    loadOptions.unusedDefines = &unusedDefines;
+    std::shared_ptr<NoriObject> root = loadFromXML(options.sceneFile, loadOptions);
+    for (const std::string &name : unusedDefines)
+        fmt::print(stderr, "Warning: -D {}={} is not used: {} has no ${}\n", name,
+                   options.defines.at(name), options.sceneFile, name);
     if (auto test = std::dynamic_pointer_cast<Test>(root))
         return test->run() ? 0 : 1;
     if (auto scene = std::dynamic_pointer_cast<Scene>(root)) {

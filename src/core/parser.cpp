@@ -127,7 +127,17 @@ Vector3f parseVector3(const std::string &text, const std::string &what) {
 
 class Parser {
 public:
-    explicit Parser(const Defines &defines) : m_defines(defines) {}
+    explicit Parser(const LoadOptions &options)
+        : m_defines(options.defines), m_cameraConvention(options.cameraConvention) {}
+
+    /// The names of the given defines that no $name used.
+    std::vector<std::string> unusedDefines(const LoadOptions &options) const {
+        std::vector<std::string> unused;
+        for (const auto &define : options.defines)
+            if (!m_usedDefines.count(define.first))
+                unused.push_back(define.first);
+        return unused;
+    }
 
     std::shared_ptr<NoriObject> parseFile(const std::string &filename) {
         const SourceFile &file = loadFile(filename);
@@ -183,7 +193,7 @@ private:
     }
 
     /// Replaces every $name in an attribute value by its definition.
-    std::string substitute(const std::string &value, const std::string &location) const {
+    std::string substitute(const std::string &value, const std::string &location) {
         std::string result;
         for (size_t i = 0; i < value.size(); ++i) {
             if (value[i] != '$') {
@@ -209,6 +219,7 @@ private:
                                           name, name, name, didYouMean(name, known)));
             }
             result += it->second;
+            m_usedDefines.insert(name);
             i = end - 1;
         }
         return result;
@@ -216,7 +227,7 @@ private:
 
     /// Checks the element's attributes against the tag's list and substitutes $names.
     std::map<std::string, std::string>
-    readAttributes(const SourceFile &file, const pugi::xml_node &node, const TagInfo &info) const {
+    readAttributes(const SourceFile &file, const pugi::xml_node &node, const TagInfo &info) {
         std::map<std::string, std::string> attributes;
         for (const pugi::xml_attribute &attribute : node.attributes()) {
             const std::string name = attribute.name();
@@ -338,6 +349,9 @@ private:
         ObjectFrame frame;
         frame.isScene = classType == NoriObject::EScene;
         parseChildren(file, node, &frame, nullptr);
+        if (classType == NoriObject::ECamera && !m_cameraConvention.empty() &&
+            !frame.props.contains("convention"))
+            frame.props.set("convention", m_cameraConvention, "command line (--camera-convention)");
 
         const std::string description = fmt::format("<{} type=\"{}\">", tag, type);
         std::shared_ptr<NoriObject> object = atLocation(location, [&] {
@@ -488,6 +502,8 @@ private:
     }
 
     Defines m_defines;
+    std::set<std::string> m_usedDefines;
+    std::string m_cameraConvention;
     std::map<std::string, std::pair<std::shared_ptr<NoriObject>, std::string>> m_ids;
     std::vector<std::string> m_includeStack;
     std::list<SourceFile> m_files; ///< kept alive: locations refer to them
@@ -495,13 +511,21 @@ private:
 
 } // namespace
 
-std::shared_ptr<NoriObject> loadFromXML(const std::string &filename, const Defines &defines) {
-    return Parser(defines).parseFile(filename);
+std::shared_ptr<NoriObject> loadFromXML(const std::string &filename, const LoadOptions &options) {
+    Parser parser(options);
+    std::shared_ptr<NoriObject> root = parser.parseFile(filename);
+    if (options.unusedDefines)
+        *options.unusedDefines = parser.unusedDefines(options);
+    return root;
 }
 
 std::shared_ptr<NoriObject> loadFromXMLString(const std::string &xml, const std::string &directory,
-                                              const Defines &defines) {
-    return Parser(defines).parseString(xml, directory);
+                                              const LoadOptions &options) {
+    Parser parser(options);
+    std::shared_ptr<NoriObject> root = parser.parseString(xml, directory);
+    if (options.unusedDefines)
+        *options.unusedDefines = parser.unusedDefines(options);
+    return root;
 }
 
 } // namespace nori

@@ -56,7 +56,7 @@ void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hi
     its.uv = b0 * uv0 + b1 * uv1 + b2 * uv2;
 
     Vector3f edge1 = p1 - p0, edge2 = p2 - p0;
-    Vector3f geoNormal = edge1.cross(edge2).normalized();
+    const Vector3f geoNormal = faceForward(edge1.cross(edge2).normalized(), index, b1, b2);
     its.geoFrame = Frame(geoNormal);
 
     // dp/du and dp/dv from the 2x2 system [du1 dv1; du2 dv2] [dpdu; dpdv] = [e1; e2]
@@ -72,14 +72,25 @@ void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hi
         its.dpdv = its.geoFrame.t;
     }
 
-    if (!m_normals.empty()) {
-        Vector3f shadingNormal =
-            (b0 * m_normals[face[0]] + b1 * m_normals[face[1]] + b2 * m_normals[face[2]]);
-        float length = shadingNormal.norm();
-        its.shFrame = length > 0.0f ? Frame(Vector3f(shadingNormal / length)) : its.geoFrame;
-    } else {
-        its.shFrame = its.geoFrame;
-    }
+    const Vector3f shadingNormal = interpolatedNormal(index, b1, b2);
+    its.shFrame = shadingNormal.isZero() ? its.geoFrame : Frame(shadingNormal);
+}
+
+Vector3f Mesh::interpolatedNormal(uint32_t index, float b1, float b2) const {
+    if (m_normals.empty())
+        return Vector3f::Zero();
+    const Vector3i &face = m_faces[index];
+    const Vector3f n = (1.0f - b1 - b2) * m_normals[face[0]] + b1 * m_normals[face[1]] +
+                       b2 * m_normals[face[2]];
+    const float length = n.norm();
+    return length > 0.0f ? Vector3f(n / length) : Vector3f::Zero();
+}
+
+Vector3f Mesh::faceForward(const Vector3f &geoNormal, uint32_t index, float b1, float b2) const {
+    // The vertex normals decide which side is the front, whatever the winding, as in
+    // pbrt (PBR 4th ed. §6.5.3): emission, light sampling and BSDF sides then agree.
+    const Vector3f shadingNormal = interpolatedNormal(index, b1, b2);
+    return geoNormal.dot(shadingNormal) < 0.0f ? Vector3f(-geoNormal) : geoNormal;
 }
 
 void Mesh::finishLoading(const Transform &toWorld) {
@@ -140,7 +151,7 @@ ShapeSample Mesh::sampleSurface(const Point2f &sample) const {
                   &p2 = m_positions[face[2]];
     ShapeSample result;
     result.p = b0 * p0 + b1 * p1 + b2 * p2;
-    result.n = Vector3f(p1 - p0).cross(Vector3f(p2 - p0)).normalized();
+    result.n = faceForward(Vector3f(p1 - p0).cross(Vector3f(p2 - p0)).normalized(), index, b1, b2);
     result.pdf = 1.0f / getArea();
     return result;
 }

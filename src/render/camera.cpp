@@ -9,6 +9,17 @@ void Camera::addChild(const std::shared_ptr<NoriObject> &child, const std::strin
         NoriObject::addChild(child, name);
 }
 
+Camera::Convention Camera::readConvention(const PropertyList &props) {
+    const std::string name = props.getString("convention", "epfl");
+    if (name == "epfl")
+        return Convention::EPFL;
+    if (name == "eth")
+        return Convention::ETH;
+    throw NoriException("'convention' must be \"epfl\" (image x mirrored, Nori 2's default) "
+                        "or \"eth\" (not mirrored), got '{}'",
+                        name);
+}
+
 void Camera::activate() {
     if (!m_rfilter)
         m_rfilter = createDefault<ReconstructionFilter>("gaussian");

@@ -1,0 +1,115 @@
+// Cameras: the two course conventions for the image's x axis, chosen in the scene or on
+// the command line.
+#include <nori/bitmap.h>
+#include <nori/parser.h>
+#include <nori/scene.h>
+
+#include "testutil.h"
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+using Catch::Contains;
+using nori::testing::errorOf;
+using nori::testing::runNori;
+using nori::testing::TempDir;
+
+namespace {
+
+/// A camera at (0, 0, 5) looking at the origin: camera-space +x is world −x.
+std::string cameraScene(const std::string &convention) {
+    return R"(<scene><integrator type="normals"/>
+        <camera type="perspective"><integer name="width" value="40"/><integer name="height" value="20"/>
+            <transform name="toWorld"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>)" +
+           convention + "</camera></scene>";
+}
+
+/// The world-space x direction of the ray through the left edge of the image's middle row.
+float leftEdgeRayX(const Scene &scene) {
+    Ray3f ray;
+    scene.getCamera()->sampleRay(ray, Point2f(0.0f, 10.0f), Point2f(0.5f, 0.5f));
+    return ray.d.x();
+}
+
+std::shared_ptr<Scene> load(const std::string &xml, const LoadOptions &options = {}) {
+    auto scene = std::dynamic_pointer_cast<Scene>(loadFromXMLString(xml, ".", options));
+    REQUIRE(scene);
+    return scene;
+}
+
+} // namespace
+
+TEST_CASE("EPFL's convention mirrors x, ETH's does not", "[camera]") {
+    // EPFL (Nori 2): camera +x is the image's left, so the left edge looks toward
+    // camera +x, which is world −x here.
+    CHECK(leftEdgeRayX(*load(cameraScene(""))) < -0.1f);
+    CHECK(leftEdgeRayX(*load(cameraScene(R"(<string name="convention" value="epfl"/>)"))) <
+          -0.1f);
+    // ETH: the image's left is camera −x = world +x.
+    CHECK(leftEdgeRayX(*load(cameraScene(R"(<string name="convention" value="eth"/>)"))) > 0.1f);
+    // The two are exact mirrors of each other.
+    Ray3f epfl, eth;
+    load(cameraScene(""))->getCamera()->sampleRay(epfl, Point2f(7.25f, 3.5f), Point2f(0.5f, 0.5f));
+    load(cameraScene(R"(<string name="convention" value="eth"/>)"))
+        ->getCamera()
+        ->sampleRay(eth, Point2f(40.0f - 7.25f, 3.5f), Point2f(0.5f, 0.5f));
+    CHECK(epfl.d.isApprox(eth.d, 1e-6f));
+    CHECK(epfl.o.isApprox(eth.o));
+
+    CHECK_THAT(errorOf([] { load(cameraScene(R"(<string name="convention" value="mit"/>)")); }),
+               Contains("'convention' must be \"epfl\"") && Contains("got 'mit'"));
+}
+
+TEST_CASE("The command line's camera convention applies to cameras that do not choose one", "[camera][cli]") {
+    LoadOptions ethOptions;
+    ethOptions.cameraConvention = "eth";
+    CHECK(leftEdgeRayX(*load(cameraScene(""), ethOptions)) > 0.1f);
+    // A convention written in the scene wins.
+    CHECK(leftEdgeRayX(*load(cameraScene(R"(<string name="convention" value="epfl"/>)"),
+                             ethOptions)) < -0.1f);
+
+    // Through the program: an ETH render is the mirror image of the EPFL one. A sphere
+    // at world x = −1.5 is on camera +x: the image's left for EPFL, right for ETH.
+    TempDir dir;
+    const std::string scene = dir.write("scene.xml", R"(<scene><integrator type="normals"/>
+        <camera type="perspective"><integer name="width" value="40"/><integer name="height" value="20"/>
+            <float name="fov" value="60"/>
+            <transform name="toWorld"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+        </camera>
+        <mesh type="sphere"><point name="center" value="-1.5,0,0"/><float name="radius" value="0.5"/></mesh>
+    </scene>)");
+    auto litColumns = [&](const std::vector<std::string> &extra) {
+        std::vector<std::string> arguments = extra;
+        arguments.insert(arguments.end(), {"--no-progress", "-o", (dir.path() / "out").string(),
+                                           scene});
+        auto result = runNori(arguments);
+        INFO(result.output);
+        REQUIRE(result.exitCode == 0);
+        const Bitmap image = Bitmap::load((dir.path() / "out.exr").string());
+        int left = 0, right = 0;
+        for (int x = 0; x < image.width(); ++x)
+            if (image(10, x).maxCoeff() > 0.0f)
+                (x < image.width() / 2 ? left : right)++;
+        return std::make_pair(left, right);
+    };
+    const auto epfl = litColumns({});
+    CHECK(epfl.first > 3);
+    CHECK(epfl.second == 0);
+    const auto eth = litColumns({"--camera-convention", "eth"});
+    CHECK(eth.first == 0);
+    // Silhouette pixels are lit or not by random samples inside them: one column apart.
+    CHECK(std::abs(eth.second - epfl.first) <= 1);
+
+    auto bad = runNori({"--camera-convention", "left", scene});
+    CHECK(bad.exitCode == 1);
+    CHECK_THAT(bad.output, Contains("--camera-convention must be 'epfl' or 'eth'"));
+}
+
+TEST_CASE("lookat with 'up' parallel to the view direction is a located error", "[camera]") {
+    const std::string xml = R"(<scene><integrator type="normals"/>
+        <camera type="perspective">
+            <transform name="toWorld"><lookat origin="0,0,5" target="0,0,0" up="0,0,1"/></transform>
+        </camera></scene>)";
+    CHECK_THAT(errorOf([&] { load(xml); }),
+               Contains("<string>:3:40") && Contains("'up' is parallel to the viewing direction"));
+}

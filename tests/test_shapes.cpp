@@ -1,0 +1,50 @@
+// Analytic shapes: the sphere's uv parameterisation as the course defines it, and its
+// derivatives.
+#include <nori/parser.h>
+#include <nori/pcg32.h>
+#include <nori/shape.h>
+#include <nori/warp.h>
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+
+TEST_CASE("Sphere uv: u = 0.5 + atan2(y, x)/2π, v = 0.5 + asin(z)/π", "[shape]") {
+    const Point3f center(0.5f, -1.0f, 2.0f);
+    const float radius = 1.5f;
+    auto sphere = std::dynamic_pointer_cast<Shape>(loadFromXMLString(R"(<mesh type="sphere">
+        <point name="center" value="0.5, -1, 2"/><float name="radius" value="1.5"/></mesh>)"));
+    REQUIRE(sphere);
+    PCG32 random(3, 4);
+    for (int i = 0; i < 200; ++i) {
+        const float u1 = random.nextFloat();
+        const Vector3f n = Warp::squareToUniformSphere(Point2f(u1, random.nextFloat()));
+        // A ray from outside toward the point c + r·n.
+        const Point3f target = center + radius * n;
+        const Ray3f ray(target + 3.0f * n, Vector3f(-n));
+        Intersection its;
+        Point2f coords;
+        REQUIRE(sphere->rayIntersect(0, ray, its.t, coords));
+        sphere->setHitInformation(0, ray, coords, its);
+        INFO("n = " << n.transpose());
+        CHECK(its.uv.x() == Approx(0.5 + std::atan2(n.y(), n.x()) / (2 * M_PI)).margin(1e-5));
+        CHECK(its.uv.y() == Approx(0.5 + std::asin(n.z()) / M_PI).margin(1e-4));
+        // dp/du and dp/dv by central differences of p(u, v).
+        auto position = [&](double u, double v) -> Eigen::Vector3d {
+            const double phi = 2 * M_PI * (u - 0.5), beta = M_PI * (v - 0.5);
+            return Eigen::Vector3d(std::cos(beta) * std::cos(phi), std::cos(beta) * std::sin(phi),
+                            std::sin(beta)) *
+                   radius;
+        };
+        const double h = 1e-4, u = its.uv.x(), v = its.uv.y();
+        const Eigen::Vector3d dpdu = (position(u + h, v) - position(u - h, v)) / (2 * h);
+        const Eigen::Vector3d dpdv = (position(u, v + h) - position(u, v - h)) / (2 * h);
+        CHECK((its.dpdu.cast<double>() - dpdu).norm() < 1e-3 * radius * 2 * M_PI);
+        CHECK((its.dpdv.cast<double>() - dpdv).norm() < 1e-3 * radius * M_PI);
+        // The frame is right-handed with its normal outward and s along dp/du.
+        CHECK(its.geoFrame.n.dot(n) == Approx(1.0f).margin(1e-5));
+        if (std::abs(n.z()) < 0.99f)
+            CHECK(its.geoFrame.s.dot(its.dpdu.normalized()) == Approx(1.0f).margin(1e-4));
+        CHECK(its.dpdu.cross(its.dpdv).dot(n) >= 0.0f);
+    }
+}
