@@ -94,7 +94,7 @@ TEST_CASE("nori reports bad input files and options without crashing", "[cli]") 
 
     auto missing = runNori({(dir.path() / "nothing.xml").string()});
     CHECK(missing.exitCode == 1);
-    CHECK_THAT(missing.output, Contains("cannot open XML file") && Contains("nothing.xml"));
+    CHECK_THAT(missing.output, Contains("cannot open XML scene file") && Contains("nothing.xml"));
 
     auto badOption = runNori({"--sppp", "4", scene});
     CHECK(badOption.exitCode == 1);
@@ -135,4 +135,16 @@ TEST_CASE("Ctrl-C writes the finished blocks as a partial image and exits non-ze
             (partial(y, x).maxCoeff() == 0.0f ? black : lit)++;
     CHECK(black > 128 * 128 / 2);
     CHECK(lit > 0);
+}
+
+TEST_CASE("Ctrl-C is honoured within a pixel, even at 10^9 samples per pixel", "[cli]") {
+    // One 32x32 block at 10^9 spp would take hours; cancellation was checked only between
+    // block rows. Interrupt as soon as rendering starts: nori must stop at once.
+    TempDir dir;
+    dir.write("meshes/floor.obj", kFloor);
+    const std::string scene = dir.write("slow.xml", kScene);
+    auto result = runNori({"-D", "size=32", "--spp", "1000000000", scene}, "spp,");
+    INFO(result.output);
+    CHECK(result.exitCode == 130);
+    CHECK_THAT(result.output, Contains("Interrupted: wrote the 0 of 1 blocks"));
 }

@@ -7,6 +7,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <fstream>
+
 using namespace nori;
 using Catch::Contains;
 using nori::testing::errorOf;
@@ -62,7 +64,7 @@ TEST_CASE("Filters reject a non-positive radius", "[filter]") {
     PropertyList props;
     props.setFloat("radius", -1.0f);
     CHECK_THAT(errorOf([&] { makeFilter("tent", props); }),
-               Contains("tent filter: 'radius' must be positive"));
+               Contains("tent filter: 'radius' must lie in (0, 32] pixels, got -1"));
 }
 
 TEST_CASE("An image block reproduces a constant image with any filter", "[filter]") {
@@ -133,10 +135,30 @@ TEST_CASE("Luminance uses Nori's Rec. 709 weights", "[image]") {
 TEST_CASE("Image loading errors name the file", "[image]") {
     TempDir dir;
     CHECK_THAT(errorOf([] { Bitmap::load("/nonexistent/image.exr"); }),
-               Contains("'/nonexistent/image.exr' does not exist"));
+               Contains("cannot open image file '/nonexistent/image.exr': no such file"));
     const std::string bad = dir.write("broken.exr", "not an exr file");
     CHECK_THAT(errorOf([&] { Bitmap::load(bad); }),
                Contains("cannot read EXR image") && Contains("broken.exr"));
     const std::string tiff = dir.write("image.tiff", "x");
     CHECK_THAT(errorOf([&] { Bitmap::load(tiff); }), Contains("unsupported file type '.tiff'"));
+    CHECK_THAT(errorOf([&] { Bitmap::load(dir.path().string()); }),
+               Contains("it is a directory, not a file"));
+
+    // A PNG whose IDAT chunk claims 3.5 GB: stb rejects it without giving a reason (its
+    // reason was a null pointer, which crashed the message formatting).
+    Bitmap small(Eigen::Vector2i(4, 4));
+    const std::string png = (dir.path() / "corrupt.png").string();
+    small.savePNG(png);
+    std::string bytes;
+    {
+        std::ifstream in(png, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    // Signature (8 bytes), IHDR chunk (4 + 4 + 13 + 4): the IDAT length starts at 33.
+    REQUIRE(bytes.substr(37, 4) == "IDAT");
+    bytes[33] = static_cast<char>(0xD5);
+    dir.write("corrupt.png", bytes);
+    CHECK_THAT(errorOf([&] { Bitmap::load(png); }),
+               Contains("cannot read image") && Contains("corrupt.png") &&
+                   Contains("without giving a reason"));
 }

@@ -307,12 +307,12 @@ TEST_CASE("Parser errors name the file, line, column and offending name", "[pars
     }
     SECTION("a missing file") {
         CHECK_THAT(errorOf([] { loadFromXML("/nonexistent/scene.xml"); }),
-                   Contains("cannot open XML file '/nonexistent/scene.xml'"));
+                   Contains("cannot open XML scene file '/nonexistent/scene.xml': no such file"));
         CHECK_THAT(parseError("<test type=\"recorder\"><include filename=\"nope.xml\"/></test>"),
                    Contains("<string>:1:24") && Contains("nope.xml"));
         CHECK_THAT(parseError("<scene><mesh type=\"obj\"><string name=\"filename\" "
                               "value=\"missing.obj\"/></mesh></scene>"),
-                   Contains("<string>:1:9") && Contains("cannot open mesh file") &&
+                   Contains("<string>:1:9") && Contains("cannot open OBJ mesh file") &&
                        Contains("missing.obj"));
     }
 }

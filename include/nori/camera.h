@@ -27,8 +27,14 @@ public:
 
     /// Accepts one <rfilter>.
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
-    /// Creates the default gaussian filter (Nori's default) when none was given.
+    /// Checks the image size against kMaxImageSide and kMaxImagePixels and creates the
+    /// default gaussian filter (Nori's default) when none was given.
     void activate() override;
+
+    /// The largest image: 32768 pixels on a side, 2^27 (134 million) pixels in all,
+    /// which the render loop holds in about 4 GiB.
+    static constexpr int kMaxImageSide = 32768;
+    static constexpr int64_t kMaxImagePixels = int64_t(1) << 27;
 
     EClassType getClassType() const override { return kClassType; }
 

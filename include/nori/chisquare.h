@@ -31,11 +31,18 @@ struct SamplingRoutine {
 };
 
 struct ChiSquareOptions {
+    /// The finest histogram: 512 × 1024 bins already need 2.6·10⁹ samples at Nori's
+    /// default of 5000 per bin.
+    static constexpr int kMaxResolution = 512;
+
     int resolution = 10;          ///< bins along the first axis (Nori's default)
     size_t sampleCount = 0;       ///< 0: 5000 per bin (Nori's default)
     double minExpFrequency = 5.0; ///< bins expecting fewer samples are pooled
     double significanceLevel = 0.01;
     uint64_t seed = 0;
+
+    /// Throws NoriException naming the first value out of range.
+    void validate() const;
 };
 
 struct ChiSquareReport {

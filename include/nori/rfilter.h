@@ -15,6 +15,10 @@ public:
 
     EClassType getClassType() const override { return kClassType; }
 
+    /// The widest support a filter may have, in pixels: far beyond any useful filter, and
+    /// small enough that image borders stay small.
+    static constexpr float kMaxRadius = 32.0f;
+
 protected:
     /// Validates a radius read from XML, naming the filter in the error.
     static float checkedRadius(float radius, const char *filterName);

@@ -34,9 +34,6 @@ public:
         m_cameraToWorld = props.getTransform("toWorld", Transform());
         m_convention = readConvention(props);
 
-        if (m_outputSize.x() <= 0 || m_outputSize.y() <= 0)
-            throw NoriException("perspective: 'width' and 'height' must be positive, got {}x{}",
-                                m_outputSize.x(), m_outputSize.y());
         if (!(m_fov > 0.0f && m_fov < 180.0f))
             throw NoriException("perspective: 'fov' must lie in (0, 180) degrees, got {}", m_fov);
         if (!(m_nearClip > 0.0f && m_farClip > m_nearClip))

@@ -12,10 +12,10 @@
  *       <string name="filename" value="meshes/bunny.obj"/>
  *   </mesh>
  */
+#include <nori/filesystem.h>
 #include <nori/mesh.h>
 #include <nori/strutil.h>
 
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <tuple>
@@ -152,9 +152,7 @@ public:
         m_name = props.getPath("filename");
         const Transform toWorld = props.getTransform("toWorld", Transform());
 
-        std::ifstream in(m_name);
-        if (!in)
-            throw NoriException("obj: cannot open mesh file '{}'", m_name);
+        std::istringstream in(readTextFile(m_name, "OBJ mesh file"));
         ObjParser parser(m_name);
         parser.parse(in);
 

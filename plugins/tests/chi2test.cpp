@@ -39,16 +39,17 @@ public:
         const int sampleCount = props.getInteger("sampleCount", -1);
         m_testCount = props.getInteger("testCount", 5);
         m_options.seed = static_cast<uint64_t>(props.getInteger("seed", 0));
-        if (!(m_options.significanceLevel > 0.0 && m_options.significanceLevel < 1.0))
-            throw NoriException("chi2test: 'significanceLevel' must lie in (0, 1), got {}",
-                                m_options.significanceLevel);
-        if (m_options.resolution < 2 || m_testCount < 1)
-            throw NoriException("chi2test: need resolution >= 2 and testCount >= 1");
+        m_options.validate();
+        if (m_testCount < 1)
+            throw NoriException("chi2test: 'testCount' must be at least 1, got {}", m_testCount);
+        if (sampleCount == 0 || sampleCount < -1)
+            throw NoriException("chi2test: 'sampleCount' must be positive (or -1 for 5000 per "
+                                "bin), got {}",
+                                sampleCount);
         // Nori's default: 5000 samples per bin of the cos θ × φ grid.
+        const size_t resolution = static_cast<size_t>(m_options.resolution);
         m_options.sampleCount =
-            sampleCount > 0
-                ? static_cast<size_t>(sampleCount)
-                : static_cast<size_t>(2 * m_options.resolution * m_options.resolution) * 5000;
+            sampleCount > 0 ? static_cast<size_t>(sampleCount) : 2 * resolution * resolution * 5000;
     }
 
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override {

@@ -1,4 +1,5 @@
 // The `nori` program: renders a scene file to EXR + PNG, or runs a test file.
+#include <nori/program.h>
 #include <nori/parser.h>
 #include <nori/progress.h>
 #include <nori/render.h>
@@ -216,10 +217,5 @@ int run(int argc, char **argv) {
 } // namespace
 
 int main(int argc, char **argv) {
-    try {
-        return run(argc, argv);
-    } catch (const std::exception &error) {
-        fmt::print(stderr, "Error: {}\n", error.what());
-        return 1;
-    }
+    return runProgram([&] { return run(argc, argv); });
 }

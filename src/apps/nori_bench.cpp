@@ -4,6 +4,7 @@
 //
 //   nori-bench --make-mesh 1000000 sphere.obj
 //   nori-bench sphere.obj [--rays N] [--threads T]
+#include <nori/program.h>
 #include <nori/accel.h>
 #include <nori/mesh.h>
 #include <nori/pcg32.h>
@@ -291,10 +292,5 @@ int run(int argc, char **argv) {
 } // namespace
 
 int main(int argc, char **argv) {
-    try {
-        return run(argc, argv);
-    } catch (const std::exception &error) {
-        std::cerr << "Error: " << error.what() << "\n";
-        return 1;
-    }
+    return runProgram([&] { return run(argc, argv); });
 }

@@ -1,6 +1,7 @@
 // warptest: the χ² test of one sampling routine from the command line, with a picture of
 // the observed and expected histograms and their difference, so a student can see where
 // a sampler goes wrong.
+#include <nori/program.h>
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/parser.h>
@@ -40,9 +41,11 @@ the verdict, and exits 0 when the test passes, 1 when it fails.
 )";
 
 std::shared_ptr<NoriObject> loadObject(const std::string &xmlOrFile) {
-    if (std::filesystem::is_regular_file(xmlOrFile))
-        return loadFromXML(xmlOrFile);
-    return loadFromXMLString(xmlOrFile);
+    // XML text starts with '<'; anything else names a file.
+    const size_t start = xmlOrFile.find_first_not_of(" \t\r\n");
+    if (start != std::string::npos && xmlOrFile[start] == '<')
+        return loadFromXMLString(xmlOrFile);
+    return loadFromXML(xmlOrFile);
 }
 
 template <typename T>
@@ -109,8 +112,9 @@ int run(int argc, char **argv) {
             positional.push_back(arg);
         }
     }
-    if (positional.empty() || options.resolution < 2)
+    if (positional.empty())
         throw NoriException("nothing to test (see warptest --help)");
+    options.validate();
 
     // Keep the plugin alive while its routine runs.
     std::shared_ptr<NoriObject> plugin;
@@ -170,10 +174,5 @@ int run(int argc, char **argv) {
 } // namespace
 
 int main(int argc, char **argv) {
-    try {
-        return run(argc, argv);
-    } catch (const std::exception &error) {
-        std::cerr << "Error: " << error.what() << "\n";
-        return 2;
-    }
+    return runProgram([&] { return run(argc, argv); }, 2);
 }

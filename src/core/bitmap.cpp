@@ -1,4 +1,5 @@
 #include <nori/bitmap.h>
+#include <nori/filesystem.h>
 #include <nori/strutil.h>
 
 #include <stb_image.h>
@@ -8,6 +9,9 @@
 #include <filesystem>
 #include <memory>
 #include <vector>
+
+// Defined in ext/stb_impl.cpp, where stb's state lives.
+void noriClearStbFailureReason();
 
 namespace nori {
 
@@ -32,13 +36,20 @@ Bitmap loadEXR(const std::string &filename) {
     return bitmap;
 }
 
+/// stb's reason for the last failure; some failures leave none.
+std::string stbFailureReason() {
+    const char *reason = stbi_failure_reason();
+    return reason ? reason : "stb_image rejected the data without giving a reason";
+}
+
 Bitmap loadWithStb(const std::string &filename, bool isHDR) {
     int width = 0, height = 0, channels = 0;
     Bitmap bitmap;
+    noriClearStbFailureReason();
     if (isHDR) {
         float *data = stbi_loadf(filename.c_str(), &width, &height, &channels, 3);
         if (!data)
-            throw NoriException("cannot read image '{}': {}", filename, stbi_failure_reason());
+            throw NoriException("cannot read image '{}': {}", filename, stbFailureReason());
         std::unique_ptr<float, decltype(&stbi_image_free)> guard(data, &stbi_image_free);
         bitmap = Bitmap(Eigen::Vector2i(width, height));
         for (int y = 0; y < height; ++y)
@@ -49,7 +60,7 @@ Bitmap loadWithStb(const std::string &filename, bool isHDR) {
     } else {
         unsigned char *data = stbi_load(filename.c_str(), &width, &height, &channels, 3);
         if (!data)
-            throw NoriException("cannot read image '{}': {}", filename, stbi_failure_reason());
+            throw NoriException("cannot read image '{}': {}", filename, stbFailureReason());
         std::unique_ptr<unsigned char, decltype(&stbi_image_free)> guard(data, &stbi_image_free);
         bitmap = Bitmap(Eigen::Vector2i(width, height));
         for (int y = 0; y < height; ++y)
@@ -65,8 +76,7 @@ Bitmap loadWithStb(const std::string &filename, bool isHDR) {
 } // namespace
 
 Bitmap Bitmap::load(const std::string &filename) {
-    if (!std::filesystem::is_regular_file(filename))
-        throw NoriException("image file '{}' does not exist", filename);
+    requireRegularFile(filename, "image file");
     const std::string extension = toLower(std::filesystem::path(filename).extension().string());
     if (extension == ".exr")
         return loadEXR(filename);

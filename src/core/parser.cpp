@@ -1,13 +1,14 @@
+#include <nori/filesystem.h>
 #include <nori/parser.h>
 #include <nori/strutil.h>
 
 #include <pugixml.hpp>
 
+#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <list>
+#include <optional>
 #include <set>
-#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -125,6 +126,77 @@ Vector3f parseVector3(const std::string &text, const std::string &what) {
     return Vector3f(v[0], v[1], v[2]);
 }
 
+/// The first line of `text`, at most 40 characters, for messages.
+std::string firstLine(const std::string &text) {
+    std::string line = text.substr(0, text.find_first_of("\r\n"));
+    return line.size() > 40 ? line.substr(0, 40) + "..." : line;
+}
+
+/// An element whose start tag has been read but not its end tag.
+struct OpenElement {
+    std::string name;
+    size_t offset; ///< of its '<'
+};
+
+/// The innermost element still open at `end`: scans the text up to there with a stack of
+/// start tags, skipping comments, CDATA, processing instructions and declarations. pugixml
+/// reports an unclosed element only where it notices, at some later end tag.
+std::optional<OpenElement> innermostOpenElement(const std::string &text, size_t end) {
+    std::vector<OpenElement> open;
+    auto skipPast = [&](size_t from, const char *terminator) {
+        const size_t found = text.find(terminator, from);
+        return found == std::string::npos ? text.size() : found + std::strlen(terminator);
+    };
+    auto nameAt = [&](size_t from) {
+        size_t stop = from;
+        while (stop < text.size() && !std::isspace(static_cast<unsigned char>(text[stop])) &&
+               text[stop] != '>' && text[stop] != '/')
+            ++stop;
+        return text.substr(from, stop - from);
+    };
+    size_t i = 0;
+    while ((i = text.find('<', i)) != std::string::npos && i < end) {
+        if (text.compare(i, 4, "<!--") == 0) {
+            i = skipPast(i + 4, "-->");
+        } else if (text.compare(i, 9, "<![CDATA[") == 0) {
+            i = skipPast(i + 9, "]]>");
+        } else if (text.compare(i, 2, "<?") == 0) {
+            i = skipPast(i + 2, "?>");
+        } else if (text.compare(i, 2, "<!") == 0) {
+            i = skipPast(i + 2, ">");
+        } else if (text.compare(i, 2, "</") == 0) {
+            if (!open.empty() && open.back().name == nameAt(i + 2))
+                open.pop_back();
+            else
+                break; // the mismatched end tag pugixml stopped at
+            i = skipPast(i + 2, ">");
+        } else {
+            // A start tag: find its '>' outside quoted attribute values.
+            const size_t start = i;
+            char quote = 0;
+            for (++i; i < text.size(); ++i) {
+                if (quote) {
+                    quote = text[i] == quote ? 0 : quote;
+                } else if (text[i] == '"' || text[i] == '\'') {
+                    quote = text[i];
+                } else if (text[i] == '>') {
+                    break;
+                }
+            }
+            if (i >= text.size() || text[i - 1] != '/')
+                open.push_back({nameAt(start + 1), start});
+            ++i;
+        }
+    }
+    if (open.empty())
+        return std::nullopt;
+    return open.back();
+}
+
+/// Elements may nest this deep: far beyond any scene, and the recursive descent stays
+/// well inside the stack.
+constexpr int kMaxNestingDepth = 128;
+
 class Parser {
 public:
     explicit Parser(const LoadOptions &options)
@@ -143,7 +215,7 @@ public:
         const SourceFile &file = loadFile(filename);
         pugi::xml_document document;
         pugi::xml_node root = parseDocument(file, document);
-        m_includeStack.push_back(canonicalName(filename));
+        m_includeStack.push_back(canonicalPathOrSame(filename));
         Child result;
         parseElement(file, root, nullptr, nullptr, &result);
         m_includeStack.pop_back();
@@ -160,35 +232,50 @@ public:
     }
 
 private:
-    static std::string canonicalName(const std::string &filename) {
-        std::error_code error;
-        fs::path canonical = fs::weakly_canonical(filename, error);
-        return error ? filename : canonical.string();
-    }
-
     const SourceFile &loadFile(const std::string &filename) {
-        if (!fs::is_regular_file(filename))
-            throw NoriException("cannot open XML file '{}': no such file", filename);
-        std::ifstream stream(filename, std::ios::binary);
-        std::ostringstream buffer;
-        buffer << stream.rdbuf();
-        if (!stream)
-            throw NoriException("cannot read XML file '{}'", filename);
+        std::string text = readTextFile(filename, "XML scene file");
         std::string directory = fs::path(filename).parent_path().string();
-        m_files.emplace_back(filename, directory.empty() ? "." : directory, buffer.str());
+        m_files.emplace_back(filename, directory.empty() ? "." : directory, std::move(text));
         return m_files.back();
     }
 
     /// Parses the XML syntax and returns the single root element.
     static pugi::xml_node parseDocument(const SourceFile &file, pugi::xml_document &document) {
+        const size_t start = file.text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
+        if (start == std::string::npos)
+            throw LocatedError(file.location(0), "not an XML scene file: the file is empty");
+        if (file.text[start] != '<')
+            throw LocatedError(file.location(static_cast<ptrdiff_t>(start)),
+                               fmt::format("not an XML scene file: XML starts with '<', this "
+                                           "file with '{}'",
+                                           firstLine(file.text.substr(start))));
         pugi::xml_parse_result result =
             document.load_buffer(file.text.data(), file.text.size(), pugi::parse_default);
+        if (result.status == pugi::status_end_element_mismatch) {
+            // pugixml points just past the "</" of the end tag where it noticed.
+            size_t end = std::min(static_cast<size_t>(std::max<ptrdiff_t>(result.offset, 0)),
+                                  file.text.size());
+            if (end >= 2 && file.text.compare(end - 2, 2, "</") == 0)
+                end -= 2;
+            if (const auto open = innermostOpenElement(file.text, end))
+                throw LocatedError(
+                    file.location(static_cast<ptrdiff_t>(end)),
+                    fmt::format("XML syntax error: <{}> opened at {} is not closed {}", open->name,
+                                file.location(static_cast<ptrdiff_t>(open->offset)),
+                                file.text.compare(end, 2, "</") == 0
+                                    ? fmt::format("before '{}'", firstLine(file.text.substr(end)))
+                                    : std::string("by the end of the file")));
+            if (file.text.compare(end, 2, "</") == 0)
+                throw LocatedError(file.location(static_cast<ptrdiff_t>(end)),
+                                   fmt::format("XML syntax error: '{}' closes no open element",
+                                               firstLine(file.text.substr(end))));
+        }
         if (!result)
             throw LocatedError(file.location(result.offset),
                                fmt::format("XML syntax error: {}", result.description()));
         pugi::xml_node root = document.document_element();
         if (!root)
-            throw LocatedError(file.location(0), "the file has no root element");
+            throw LocatedError(file.location(0), "not an XML scene file: it has no root element");
         return root;
     }
 
@@ -269,6 +356,14 @@ private:
                       Transform *transform, Child *root) {
         const std::string tag = node.name();
         const std::string location = file.location(node.offset_debug());
+        if (m_depth >= kMaxNestingDepth)
+            throw LocatedError(location, fmt::format("<{}> is nested more than {} elements deep",
+                                                     tag, kMaxNestingDepth));
+        ++m_depth;
+        struct DepthGuard {
+            int &depth;
+            ~DepthGuard() { --depth; }
+        } guard{m_depth};
         auto tagIt = tagTable().find(tag);
         if (tagIt == tagTable().end())
             throw LocatedError(location, fmt::format("unknown tag <{}>{}", tag,
@@ -426,7 +521,7 @@ private:
         if (path.is_relative())
             path = fs::path(file.directory) / path;
         const std::string filename = path.lexically_normal().string();
-        const std::string canonical = canonicalName(filename);
+        const std::string canonical = canonicalPathOrSame(filename);
         if (std::find(m_includeStack.begin(), m_includeStack.end(), canonical) !=
             m_includeStack.end())
             throw LocatedError(location, fmt::format("<include> of '{}' forms a cycle", filename));
@@ -507,6 +602,7 @@ private:
     std::map<std::string, std::pair<std::shared_ptr<NoriObject>, std::string>> m_ids;
     std::vector<std::string> m_includeStack;
     std::list<SourceFile> m_files; ///< kept alive: locations refer to them
+    int m_depth = 0;               ///< of the element being parsed, across includes
 };
 
 } // namespace

@@ -46,6 +46,10 @@ float Shape::pdfFromReference(const Point3f &ref, const Point3f &p, const Normal
 }
 
 void Shape::activate() {
+    if (m_emitter && !(getArea() > 0.0f))
+        throw NoriException("an area light needs a surface to emit from, but {} has none (no "
+                            "usable triangles)",
+                            toString());
     if (!m_bsdf)
         m_bsdf = createDefault<BSDF>("diffuse");
 }

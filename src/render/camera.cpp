@@ -21,6 +21,12 @@ Camera::Convention Camera::readConvention(const PropertyList &props) {
 }
 
 void Camera::activate() {
+    const int width = m_outputSize.x(), height = m_outputSize.y();
+    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide ||
+        int64_t(width) * height > kMaxImagePixels)
+        throw NoriException("an image of width {} and height {} is not possible: each must lie in "
+                            "[1, {}] and width x height must be at most {} pixels",
+                            width, height, kMaxImageSide, kMaxImagePixels);
     if (!m_rfilter)
         m_rfilter = createDefault<ReconstructionFilter>("gaussian");
 }

@@ -45,12 +45,14 @@ bool renderBlock(const Scene &scene, Sampler &sampler, ImageBlock &block,
     block.clear();
     sampler.prepare(block);
     for (int y = 0; y < size.y(); ++y) {
-        if (isCancelled(options))
-            return false;
         for (int x = 0; x < size.x(); ++x) {
             const Point2i pixel(offset.x() + x, offset.y() + y);
             sampler.generate(pixel);
             for (size_t i = 0; i < sampler.getSampleCount(); ++i) {
+                // Checked every sample (a relaxed load costs nothing next to a path), so
+                // Ctrl-C is prompt even at millions of samples per pixel.
+                if (isCancelled(options))
+                    return false;
                 Point2f pixelSample = pixel.cast<float>() + sampler.next2D();
                 Point2f apertureSample = sampler.next2D();
                 Ray3f ray;

@@ -3,9 +3,9 @@
 namespace nori {
 
 float ReconstructionFilter::checkedRadius(float radius, const char *filterName) {
-    if (!(radius > 0.0f) || !std::isfinite(radius))
-        throw NoriException("{} filter: 'radius' must be positive and finite, got {}", filterName,
-                            radius);
+    if (!(radius > 0.0f && radius <= kMaxRadius))
+        throw NoriException("{} filter: 'radius' must lie in (0, {}] pixels, got {}", filterName,
+                            kMaxRadius, radius);
     return radius;
 }
 

@@ -55,7 +55,17 @@ struct DomainMap {
 
 } // namespace
 
+void ChiSquareOptions::validate() const {
+    if (resolution < 2 || resolution > kMaxResolution)
+        throw NoriException("'resolution' must lie in [2, {}], got {}", kMaxResolution, resolution);
+    if (!(significanceLevel > 0.0 && significanceLevel < 1.0))
+        throw NoriException("'significanceLevel' must lie in (0, 1), got {}", significanceLevel);
+    if (!(minExpFrequency >= 0.0))
+        throw NoriException("'minExpFrequency' must not be negative, got {}", minExpFrequency);
+}
+
 ChiSquareReport runChiSquareTest(const SamplingRoutine &routine, const ChiSquareOptions &options) {
+    options.validate();
     const DomainMap map(routine.domain);
     ChiSquareReport report;
     report.xBins = options.resolution;

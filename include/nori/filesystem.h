@@ -1,0 +1,24 @@
+// Checks of files named from outside (XML, command line): one place that turns what the
+// file system says into a clear NoriException, never a std::filesystem_error.
+#pragma once
+
+#include <string>
+
+namespace nori {
+
+/// Throws NoriException naming `what` (e.g. "XML file") and `path` unless path names a
+/// regular file: "no such file", "is a directory", "is not a regular file (a device,
+/// pipe or socket)", or the system's reason ("File name too long", "Too many levels of
+/// symbolic links").
+void requireRegularFile(const std::string &path, const std::string &what);
+
+/// The canonical form of `path` (symbolic links resolved) where it can be found, else
+/// `path` unchanged; never throws.
+std::string canonicalPathOrSame(const std::string &path);
+
+/// Reads a whole regular file (checked as requireRegularFile does). Throws NoriException
+/// on a read error, and when the file holds a NUL byte: `what` is a text format, and a
+/// binary file (an image, an EXR passed by mistake) is not one.
+std::string readTextFile(const std::string &path, const std::string &what);
+
+} // namespace nori

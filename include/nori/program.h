@@ -1,0 +1,13 @@
+// What every program (nori, warptest, nori-bench) does with an error: print it and exit
+// with a status, never abort. Out of memory is an error like the others.
+#pragma once
+
+#include <functional>
+
+namespace nori {
+
+/// Runs `body` and returns its exit status; an exception is printed as "Error: ..." on
+/// stderr and turns into `errorStatus` (std::bad_alloc: "out of memory").
+int runProgram(const std::function<int()> &body, int errorStatus = 1);
+
+} // namespace nori

@@ -1,0 +1,51 @@
+#include <nori/common.h>
+#include <nori/filesystem.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace nori {
+
+void requireRegularFile(const std::string &path, const std::string &what) {
+    std::error_code error;
+    const fs::file_status status = fs::status(path, error);
+    if (status.type() == fs::file_type::not_found)
+        throw NoriException("cannot open {} '{}': no such file", what, path);
+    if (error)
+        throw NoriException("cannot open {} '{}': {}", what, path, error.message());
+    if (status.type() == fs::file_type::directory)
+        throw NoriException("cannot open {} '{}': it is a directory, not a file", what, path);
+    if (status.type() != fs::file_type::regular)
+        throw NoriException("cannot open {} '{}': not a regular file (a device, pipe or socket)",
+                            what, path);
+}
+
+std::string canonicalPathOrSame(const std::string &path) {
+    std::error_code error;
+    const fs::path canonical = fs::weakly_canonical(path, error);
+    return error ? path : canonical.string();
+}
+
+std::string readTextFile(const std::string &path, const std::string &what) {
+    requireRegularFile(path, what);
+    std::ifstream stream(path, std::ios::binary);
+    if (!stream)
+        throw NoriException("cannot open {} '{}': {}", what, path, std::strerror(errno));
+    std::ostringstream buffer;
+    buffer << stream.rdbuf();
+    if (stream.bad())
+        throw NoriException("cannot read {} '{}': read error", what, path);
+    std::string text = buffer.str();
+    const size_t nul = text.find('\0');
+    if (nul != std::string::npos)
+        throw NoriException("'{}' is not a text file (a NUL byte at offset {}), so not a valid {}",
+                            path, nul, what);
+    return text;
+}
+
+} // namespace nori
