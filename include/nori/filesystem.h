@@ -21,4 +21,8 @@ std::string canonicalPathOrSame(const std::string &path);
 /// binary file (an image, an EXR passed by mistake) is not one.
 std::string readTextFile(const std::string &path, const std::string &what);
 
+/// Writes `text` to `path` unless the file already holds exactly that (so generated
+/// files keep their time stamps); throws NoriException when it cannot.
+void writeFileIfChanged(const std::string &path, const std::string &text);
+
 } // namespace nori

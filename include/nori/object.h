@@ -54,15 +54,16 @@ public:
     struct Entry {
         NoriObject::EClassType type;
         Constructor constructor;
+        std::string sourceFile; ///< where it was registered (__FILE__), for its doc comment
     };
 
     /// Registers a plugin; throws NoriException when the name is already taken.
     static void registerClass(const std::string &name, NoriObject::EClassType type,
-                              Constructor constructor);
+                              Constructor constructor, const std::string &sourceFile = "");
     /// As registerClass, for static initialisation (where throwing would abort): a
     /// duplicate is remembered and reported by checkRegistry().
     static bool registerStatic(const std::string &name, NoriObject::EClassType type,
-                               Constructor constructor) noexcept;
+                               Constructor constructor, const char *sourceFile) noexcept;
     /// Throws NoriException listing the names that were registered twice at start-up
     /// (each duplicate is reported once).
     static void checkRegistry();
@@ -75,7 +76,15 @@ public:
     /// Every registered plugin, sorted by kind then name.
     static std::vector<std::pair<NoriObject::EClassType, std::string>> registeredClasses();
     static bool isRegistered(const std::string &name);
+    /// The registration of `name`; throws NoriException when there is none.
+    static const Entry &entry(const std::string &name);
     static void unregisterClass(const std::string &name);
+
+    /// Called with every plugin createInstance() makes and the properties it was given
+    /// (which know what the plugin read): how the doc test sees what plugins read. One
+    /// observer at a time; an empty function removes it.
+    using Observer = std::function<void(const std::string &name, const PropertyList &props)>;
+    static void setObserver(Observer observer);
 };
 
 /// Stores a child in a parent's single slot for it (a scene's camera, a shape's BSDF),
@@ -103,6 +112,7 @@ template <typename T> std::shared_ptr<T> createDefault(const std::string &name) 
         name, cls::kClassType,                                                                     \
         [](const ::nori::PropertyList &props) -> std::shared_ptr<::nori::NoriObject> {             \
             return std::make_shared<cls>(props);                                                   \
-        });
+        },                                                                                         \
+        __FILE__);
 
 } // namespace nori

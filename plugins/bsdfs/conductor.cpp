@@ -3,10 +3,10 @@
  * term (PBR 4th ed. §9.3.6).
  *
  * Parameters:
- *   material  string  —        a named metal: Au, Ag, Cu, Al (instead of eta and k)
- *   eta       color   (0.2, 0.92, 1.1)  real part of the index of refraction (copper)
- *   k         color   (3.9, 2.45, 2.14) imaginary part (absorption)
- *   extIOR    float   1.000277 index of refraction of the outside
+ *   material  string  —                  a named metal: Au, Ag, Cu, Al (instead of eta, k)
+ *   eta       color   (0.2, 0.92, 1.1)   real part of the index of refraction (copper)
+ *   k         color   (3.9, 2.45, 2.14)  imaginary part (absorption)
+ *   extIOR    float   1.000277           index of refraction of the outside
  *
  *   <bsdf type="conductor"><string name="material" value="Au"/></bsdf>
  */

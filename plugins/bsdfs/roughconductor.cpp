@@ -7,7 +7,7 @@
  *   alpha         float   0.1     roughness (> 0)
  *   material      string  —       a named metal: Au, Ag, Cu, Al (instead of eta and k)
  *   eta, k        color   copper  complex index of refraction
- *   extIOR        float   1.000277
+ *   extIOR        float   1.000277  index of refraction of the outside
  *
  *   <bsdf type="roughconductor"><string name="material" value="Al"/>
  *       <float name="alpha" value="0.3"/></bsdf>

@@ -8,8 +8,11 @@
  * Parameters:
  *   radiance  color  (required)  emitted radiance
  *
- *   <mesh type="obj"><string name="filename" value="light.obj"/>
+ *   <mesh type="obj"><string name="filename" value="scenes/cbox/meshes/light.obj"/>
  *       <emitter type="area"><color name="radiance" value="10, 10, 10"/></emitter></mesh>
+ *
+ *   <mesh type="sphere"><float name="radius" value="0.5"/>
+ *       <emitter type="area"><color name="radiance" value="2"/></emitter></mesh>
  */
 #include <nori/emitter.h>
 #include <nori/shape.h>

@@ -9,7 +9,7 @@
  *   toWorld   transform  identity    object-to-world transform
  *
  *   <mesh type="obj">
- *       <string name="filename" value="meshes/bunny.obj"/>
+ *       <string name="filename" value="scenes/cbox/meshes/floor.obj"/>
  *   </mesh>
  */
 #include <nori/filesystem.h>

@@ -7,9 +7,9 @@
  *
  * Parameters:
  *   significanceLevel  float    0.01   probability of rejecting a correct sampler
- *   resolution         integer  10     bins in cos θ (φ gets twice as many)
+ *   resolution         integer  10     bins in cos θ (φ gets twice as many), at most 512
  *   minExpFrequency    integer  5      bins expecting fewer samples are pooled
- *   sampleCount        integer  5000 per bin
+ *   sampleCount        integer  -1     samples per test; -1: 5000 per bin (Nori's default)
  *   testCount          integer  5      tests per plugin
  *   seed               integer  0      seed of the test's random numbers
  *

@@ -1,6 +1,8 @@
 // The `nori` program: renders a scene file to EXR + PNG, or runs a test file.
 #include <nori/program.h>
+#include <nori/filesystem.h>
 #include <nori/parser.h>
+#include <nori/plugindoc.h>
 #include <nori/progress.h>
 #include <nori/render.h>
 #include <nori/scene.h>
@@ -41,7 +43,11 @@ Options:
                      which way image x runs for cameras that do not say: epfl (x
                      mirrored, Nori 2's default) or eth (the ETH course's Nori)
   --no-progress      no progress bar
-  --list-plugins     print every registered plugin by kind and exit
+  --list-plugins [KIND|NAME]
+                     list the plugins (of one kind: bsdf, emitter, ...) with a line on
+                     each, or print one plugin's parameters, defaults and examples
+  --plugins-markdown FILE
+                     write the plugin reference (docs/plugins.md) to FILE
   -h, --help         this text
 
 On Ctrl-C the blocks finished so far are written to <file>_partial.exr/.png and nori
@@ -60,6 +66,8 @@ struct Options {
     size_t samplesPerPixel = 0;
     bool showProgress = true;
     bool listPlugins = false;
+    std::string listWhat;        ///< the KIND or NAME after --list-plugins
+    std::string markdownFile;
     bool help = false;
 };
 
@@ -83,6 +91,11 @@ Options parseCommandLine(int argc, char **argv) {
             options.help = true;
         } else if (arg == "--list-plugins") {
             options.listPlugins = true;
+            if (i + 1 < argc && argv[i + 1][0] != '-' &&
+                !endsWith(toLower(argv[i + 1]), ".xml"))
+                options.listWhat = argv[++i];
+        } else if (arg == "--plugins-markdown") {
+            options.markdownFile = value(arg);
         } else if (arg == "--no-progress") {
             options.showProgress = false;
         } else if (arg == "-o" || arg == "--output") {
@@ -115,18 +128,6 @@ Options parseCommandLine(int argc, char **argv) {
         }
     }
     return options;
-}
-
-void listPlugins() {
-    NoriObject::EClassType current = NoriObject::EClassTypeCount;
-    for (const auto &[type, name] : NoriObjectFactory::registeredClasses()) {
-        if (type != current) {
-            current = type;
-            fmt::print("{}{}:\n", type == NoriObject::EScene ? "" : "\n",
-                       NoriObject::classTypeName(type));
-        }
-        fmt::print("  {}\n", name);
-    }
 }
 
 /// The output path without extension: -o's argument, or the scene file's path.
@@ -183,7 +184,14 @@ int run(int argc, char **argv) {
         return 0;
     }
     if (options.listPlugins) {
-        listPlugins();
+        fmt::print("{}", options.listWhat.empty() ? pluginList()
+                         : NoriObjectFactory::isRegistered(options.listWhat)
+                             ? pluginReference(options.listWhat)
+                             : pluginList(options.listWhat));
+        return 0;
+    }
+    if (!options.markdownFile.empty()) {
+        writeFileIfChanged(options.markdownFile, pluginsMarkdown());
         return 0;
     }
     if (options.sceneFile.empty()) {

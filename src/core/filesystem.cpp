@@ -48,4 +48,18 @@ std::string readTextFile(const std::string &path, const std::string &what) {
     return text;
 }
 
+void writeFileIfChanged(const std::string &path, const std::string &text) {
+    {
+        std::ifstream existing(path, std::ios::binary);
+        std::ostringstream buffer;
+        buffer << existing.rdbuf();
+        if (existing && buffer.str() == text)
+            return;
+    }
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    if (!out)
+        throw NoriException("cannot write '{}': {}", path, std::strerror(errno));
+}
+
 } // namespace nori

@@ -27,6 +27,11 @@ std::string withArticle(NoriObject::EClassType type) {
     return (std::string("aeiou").find(name[0]) != std::string::npos ? "an " : "a ") + name;
 }
 
+NoriObjectFactory::Observer &observerSlot() {
+    static NoriObjectFactory::Observer instance;
+    return instance;
+}
+
 } // namespace
 
 void NoriObject::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
@@ -49,17 +54,17 @@ NoriObject::EClassType NoriObject::classTypeFromName(const std::string &tag) {
 }
 
 void NoriObjectFactory::registerClass(const std::string &name, NoriObject::EClassType type,
-                                      Constructor constructor) {
-    auto [it, inserted] = registry().emplace(name, Entry{type, std::move(constructor)});
+                                      Constructor constructor, const std::string &sourceFile) {
+    auto [it, inserted] = registry().emplace(name, Entry{type, std::move(constructor), sourceFile});
     if (!inserted)
         throw NoriException("plugin name '{}' is registered twice (as {} and as {})", name,
                             withArticle(it->second.type), withArticle(type));
 }
 
 bool NoriObjectFactory::registerStatic(const std::string &name, NoriObject::EClassType type,
-                                       Constructor constructor) noexcept {
+                                       Constructor constructor, const char *sourceFile) noexcept {
     try {
-        registerClass(name, type, std::move(constructor));
+        registerClass(name, type, std::move(constructor), sourceFile);
         return true;
     } catch (const std::exception &error) {
         try {
@@ -97,6 +102,8 @@ std::shared_ptr<NoriObject> NoriObjectFactory::createInstance(const std::string 
         throw NoriException("plugin '{}' is {}, not {}", name, withArticle(it->second.type),
                             withArticle(expectedType));
     std::shared_ptr<NoriObject> object = it->second.constructor(props);
+    if (observerSlot())
+        observerSlot()(name, props);
     props.checkAllRead(fmt::format("{} '{}'", NoriObject::classTypeName(expectedType), name));
     return object;
 }
@@ -111,6 +118,17 @@ std::vector<std::pair<NoriObject::EClassType, std::string>> NoriObjectFactory::r
 
 bool NoriObjectFactory::isRegistered(const std::string &name) {
     return registry().count(name) != 0;
+}
+
+const NoriObjectFactory::Entry &NoriObjectFactory::entry(const std::string &name) {
+    auto it = registry().find(name);
+    if (it == registry().end())
+        throw NoriException("no plugin is registered as '{}'", name);
+    return it->second;
+}
+
+void NoriObjectFactory::setObserver(Observer observer) {
+    observerSlot() = std::move(observer);
 }
 
 void NoriObjectFactory::unregisterClass(const std::string &name) {

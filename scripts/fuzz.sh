@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Builds the fuzz targets with clang, libFuzzer, ASan and UBSan, and fuzzes each one.
+#   scripts/fuzz.sh [--seconds N] [--build DIR] [xml] [obj]
+# Prints libFuzzer's figures (executions, coverage) and exits non-zero when a target
+# crashed, leaked, hit undefined behaviour or threw anything but a NoriException; the
+# input that did it is in DIR/artifacts/. New interesting inputs go to DIR/corpus-<target>.
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+seconds=600
+build="$here/build-fuzz"
+targets=()
+while (($#)); do
+    case "$1" in
+    --seconds) seconds="$2"; shift 2 ;;
+    --build) build="$2"; shift 2 ;;
+    xml | obj) targets+=("$1"); shift ;;
+    *) echo "usage: $0 [--seconds N] [--build DIR] [xml] [obj]" >&2; exit 2 ;;
+    esac
+done
+((${#targets[@]})) || targets=(xml obj)
+
+cmake -S "$here" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DNORI_FUZZ=ON -DNORI_BUILD_TESTS=OFF > "$build.configure.log" 2>&1 ||
+    { cat "$build.configure.log"; exit 1; }
+cmake --build "$build" -j"$(nproc)" --target $(printf 'nori-fuzz-%s ' "${targets[@]}")
+
+mkdir -p "$build/artifacts"
+status=0
+for target in "${targets[@]}"; do
+    case "$target" in
+    xml) seeds=("$here/tests/badinput" "$here/scenes/tests" "$here/tests/fuzz/corpus/xml") ;;
+    obj) seeds=("$here/tests/fuzz/corpus/obj" "$here/tests/badinput" "$here/scenes/cbox/meshes") ;;
+    esac
+    corpus="$build/corpus-$target"
+    mkdir -p "$corpus"
+    echo "== fuzzing the $target reader for $seconds s"
+    # -rss_limit_mb: a single input may not use more than 2 GiB; -timeout: nor take 10 s.
+    if ! "$build/nori-fuzz-$target" "$corpus" "${seeds[@]}" -dict="$here/tests/fuzz/$target.dict" \
+        -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+        -artifact_prefix="$build/artifacts/$target-" -print_final_stats=1 \
+        > "$build/fuzz-$target.log" 2>&1; then
+        status=1
+        echo "the $target target failed; its report:"
+        tail -n 60 "$build/fuzz-$target.log"
+    fi
+    grep -E "^Done|stat::number_of_executed_units|stat::peak_rss_mb|cov:" "$build/fuzz-$target.log" | tail -n 4
+done
+exit $status

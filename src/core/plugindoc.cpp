@@ -1,0 +1,329 @@
+#include <nori/object.h>
+#include <nori/plugindoc.h>
+#include <nori/strutil.h>
+
+#include <map>
+#include <sstream>
+
+namespace nori {
+
+namespace {
+
+const std::vector<std::string> kParameterTypes = {"boolean", "integer", "float", "string",
+                                                  "color",   "point",   "vector", "transform"};
+
+std::map<std::string, std::string> &docComments() {
+    static std::map<std::string, std::string> comments;
+    return comments;
+}
+
+std::string trim(const std::string &text) {
+    const size_t begin = text.find_first_not_of(" \t");
+    if (begin == std::string::npos)
+        return "";
+    return text.substr(begin, text.find_last_not_of(" \t") - begin + 1);
+}
+
+size_t indentOf(const std::string &line) {
+    const size_t indent = line.find_first_not_of(' ');
+    return indent == std::string::npos ? line.size() : indent;
+}
+
+/// The comment's lines without "/*", "*/" and the " * " margin.
+std::vector<std::string> commentLines(const std::string &comment) {
+    const size_t open = comment.find("/*"), close = comment.rfind("*/");
+    if (open == std::string::npos || close == std::string::npos || close < open + 2)
+        throw NoriException("a doc comment is a /* ... */ block");
+    std::istringstream in(comment.substr(open + 2, close - open - 2));
+    std::vector<std::string> lines;
+    std::string line;
+    while (std::getline(in, line)) {
+        const size_t star = line.find_first_not_of(" \t");
+        if (star != std::string::npos && line[star] == '*') {
+            line = line.substr(star + 1);
+            if (!line.empty() && line[0] == ' ')
+                line.erase(0, 1);
+        }
+        lines.push_back(line.find_first_not_of(" \t\r") == std::string::npos ? "" : line);
+    }
+    while (!lines.empty() && lines.front().empty())
+        lines.erase(lines.begin());
+    while (!lines.empty() && lines.back().empty())
+        lines.pop_back();
+    return lines;
+}
+
+/// Groups lines into paragraphs separated by blank lines.
+std::vector<std::vector<std::string>> paragraphsOf(const std::vector<std::string> &lines) {
+    std::vector<std::vector<std::string>> paragraphs(1);
+    for (const std::string &line : lines) {
+        if (line.empty()) {
+            if (!paragraphs.back().empty())
+                paragraphs.emplace_back();
+        } else {
+            paragraphs.back().push_back(line);
+        }
+    }
+    if (paragraphs.back().empty())
+        paragraphs.pop_back();
+    return paragraphs;
+}
+
+/// Splits a parameter line into its columns (two or more spaces apart).
+std::vector<std::string> columnsOf(const std::string &line) {
+    std::vector<std::string> columns;
+    size_t position = 0;
+    while (position < line.size()) {
+        size_t gap = line.find("  ", position);
+        if (gap == std::string::npos)
+            gap = line.size();
+        columns.push_back(line.substr(position, gap - position));
+        position = line.find_first_not_of(' ', gap);
+        if (position == std::string::npos)
+            break;
+    }
+    return columns;
+}
+
+ParameterDoc parseParameterLine(const std::string &line) {
+    const std::vector<std::string> columns = columnsOf(trim(line));
+    if (columns.size() < 4)
+        throw NoriException("parameter line '{}' needs four columns two spaces apart: name, "
+                            "type, default, meaning",
+                            trim(line));
+    ParameterDoc parameter;
+    for (const std::string &name : tokenize(columns[0], ", "))
+        parameter.names.push_back(name);
+    parameter.type = columns[1];
+    parameter.defaultValue = columns[2];
+    for (size_t i = 3; i < columns.size(); ++i)
+        parameter.meaning += (i > 3 ? "  " : "") + columns[i];
+    if (std::find(kParameterTypes.begin(), kParameterTypes.end(), parameter.type) ==
+        kParameterTypes.end())
+        throw NoriException("parameter '{}' has the type '{}', not one of {}", columns[0],
+                            parameter.type, fmt::join(kParameterTypes, " "));
+    return parameter;
+}
+
+/// The paragraph as one example: its lines without their common indentation.
+std::string exampleOf(const std::vector<std::string> &paragraph) {
+    size_t indent = std::string::npos;
+    for (const std::string &line : paragraph)
+        indent = std::min(indent, indentOf(line));
+    std::string example;
+    for (const std::string &line : paragraph)
+        example += line.substr(indent) + "\n";
+    return example;
+}
+
+/// Text up to the end of its first sentence: a period followed by a space and a capital
+/// letter, or the end.
+std::string firstSentence(const std::string &text) {
+    for (size_t i = 0; i + 2 < text.size(); ++i)
+        if (text[i] == '.' && text[i + 1] == ' ' && std::isupper(static_cast<unsigned char>(text[i + 2])))
+            return text.substr(0, i + 1);
+    return text;
+}
+
+} // namespace
+
+bool PluginDoc::documents(const std::string &parameter) const {
+    for (const ParameterDoc &doc : parameters)
+        if (std::find(doc.names.begin(), doc.names.end(), parameter) != doc.names.end())
+            return true;
+    return false;
+}
+
+PluginDoc parsePluginDoc(const std::string &comment) {
+    PluginDoc doc;
+    const std::vector<std::string> lines = commentLines(comment);
+    for (const std::string &line : lines)
+        doc.text += line + "\n";
+    const auto paragraphs = paragraphsOf(lines);
+    if (paragraphs.empty())
+        throw NoriException("the doc comment is empty");
+
+    // "name — what it models ...": the first paragraph.
+    std::string first;
+    for (const std::string &line : paragraphs[0])
+        first += (first.empty() ? "" : " ") + trim(line);
+    const std::string dash = "\xE2\x80\x94"; // U+2014 EM DASH
+    const size_t separator = first.find(" " + dash + " ");
+    if (separator == std::string::npos || separator == 0)
+        throw NoriException("the doc comment must start with 'name — what it models', not '{}'",
+                            first.substr(0, 60));
+    doc.name = first.substr(0, separator);
+    doc.summary = firstSentence(first.substr(separator + dash.size() + 2));
+
+    bool inParameters = false, sawParameters = false;
+    for (size_t p = 1; p < paragraphs.size(); ++p) {
+        const std::vector<std::string> &paragraph = paragraphs[p];
+        const std::string head = trim(paragraph[0]);
+        if (head == "Parameters:") {
+            inParameters = sawParameters = true;
+            for (size_t i = 1; i < paragraph.size(); ++i) {
+                if (indentOf(paragraph[i]) > 2 && !doc.parameters.empty())
+                    doc.parameters.back().meaning += " " + trim(paragraph[i]);
+                else
+                    doc.parameters.push_back(parseParameterLine(paragraph[i]));
+            }
+        } else if (head.rfind("No parameters", 0) == 0) {
+            sawParameters = true;
+            inParameters = false;
+        } else if (head.rfind("Exempt from the sampling test:", 0) == 0) {
+            std::string reason;
+            for (const std::string &line : paragraph)
+                reason += (reason.empty() ? "" : " ") + trim(line);
+            doc.exemption = trim(reason.substr(std::string("Exempt from the sampling test:").size()));
+            inParameters = false;
+        } else if (head[0] == '<') {
+            doc.examples.push_back(exampleOf(paragraph));
+            inParameters = false;
+        } else if (inParameters && indentOf(paragraph[0]) == 2) {
+            for (const std::string &line : paragraph) {
+                if (indentOf(line) > 2 && !doc.parameters.empty())
+                    doc.parameters.back().meaning += " " + trim(line);
+                else
+                    doc.parameters.push_back(parseParameterLine(line));
+            }
+        } else {
+            inParameters = false;
+        }
+    }
+    if (!sawParameters)
+        throw NoriException("the doc comment of '{}' has neither 'Parameters:' nor 'No parameters'",
+                            doc.name);
+    return doc;
+}
+
+bool registerDocComments(const std::vector<std::pair<const char *, const char *>> &files) noexcept {
+    try {
+        for (const auto &[file, comment] : files)
+            docComments()[file] = comment;
+        return true;
+    } catch (...) {
+        return false;
+    }
+}
+
+std::string docCommentOf(const std::string &name) {
+    const auto it = docComments().find(NoriObjectFactory::entry(name).sourceFile);
+    return it == docComments().end() ? "" : it->second;
+}
+
+} // namespace nori
+
+namespace nori {
+
+std::string shortSourcePath(const std::string &sourceFile) {
+    for (const char *root : {"/plugins/", "/tests/", "/docs/"}) {
+        const size_t position = sourceFile.rfind(root);
+        if (position != std::string::npos)
+            return sourceFile.substr(position + 1);
+    }
+    return sourceFile;
+}
+
+std::string pluginList(const std::string &kind) {
+    const auto classes = NoriObjectFactory::registeredClasses();
+    if (!kind.empty() && NoriObject::classTypeFromName(kind) == NoriObject::EClassTypeCount)
+        throw NoriException("'{}' is neither a kind of plugin nor a plugin{}", kind,
+                            didYouMean(kind, [&] {
+                                std::vector<std::string> names;
+                                for (const auto &[type, name] : classes)
+                                    names.push_back(name);
+                                for (int t = 0; t < NoriObject::EClassTypeCount; ++t)
+                                    names.push_back(NoriObject::classTypeName(
+                                        static_cast<NoriObject::EClassType>(t)));
+                                return names;
+                            }()));
+    std::string out;
+    NoriObject::EClassType current = NoriObject::EClassTypeCount;
+    for (const auto &[type, name] : classes) {
+        if (!kind.empty() && NoriObject::classTypeName(type) != kind)
+            continue;
+        if (type != current) {
+            current = type;
+            out += fmt::format("{}{}:\n", out.empty() ? "" : "\n", NoriObject::classTypeName(type));
+        }
+        std::string summary;
+        const std::string comment = docCommentOf(name);
+        if (!comment.empty()) {
+            try {
+                summary = parsePluginDoc(comment).summary;
+            } catch (const NoriException &error) {
+                summary = fmt::format("(malformed doc comment: {})", error.what());
+            }
+        }
+        out += fmt::format("  {:<16} {}\n", name, summary);
+    }
+    return out;
+}
+
+std::string pluginReference(const std::string &name) {
+    if (!NoriObjectFactory::isRegistered(name))
+        return pluginList(name); // a kind, or an error with a suggestion
+    const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(name);
+    const std::string comment = docCommentOf(name);
+    std::string out = fmt::format("{} ({}, {})\n\n", name, NoriObject::classTypeName(entry.type),
+                                  shortSourcePath(entry.sourceFile));
+    if (comment.empty())
+        return out + "(this plugin's file has no doc comment)\n";
+    try {
+        return out + parsePluginDoc(comment).text;
+    } catch (const NoriException &error) {
+        throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
+                            error.what());
+    }
+}
+
+std::string pluginsMarkdown() {
+    std::string out = "# Plugins\n\nGenerated by the build from the doc comment at the top of "
+                      "each file in `plugins/`; do not edit. `nori --list-plugins NAME` prints "
+                      "the same.\n";
+    NoriObject::EClassType current = NoriObject::EClassTypeCount;
+    for (const auto &[type, name] : NoriObjectFactory::registeredClasses()) {
+        const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(name);
+        const std::string comment = docCommentOf(name);
+        if (shortSourcePath(entry.sourceFile).rfind("plugins/", 0) != 0 || comment.empty())
+            continue;
+        if (type != current) {
+            current = type;
+            out += fmt::format("\n## {}\n", NoriObject::classTypeName(type));
+        }
+        PluginDoc doc;
+        try {
+            doc = parsePluginDoc(comment);
+        } catch (const NoriException &error) {
+            throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
+                                error.what());
+        }
+        // The description: the text before the parameters, joined into a paragraph.
+        std::string description;
+        bool first = true;
+        for (std::string line : tokenize(doc.text, "\n")) {
+            if (first) // without the "name — " that the heading already says
+                line = line.substr(line.find(' ', doc.name.size() + 1) + 1);
+            first = false;
+            const std::string text = trim(line);
+            if (text == "Parameters:" || text.rfind("No parameters", 0) == 0 || text[0] == '<')
+                break;
+            description += (description.empty() ? "" : " ") + text;
+        }
+        out += fmt::format("\n### `{}`\n\n{} (`{}`)\n", name, description,
+                           shortSourcePath(entry.sourceFile));
+        if (!doc.parameters.empty()) {
+            out += "\n| parameter | type | default | meaning |\n| --- | --- | --- | --- |\n";
+            for (const ParameterDoc &parameter : doc.parameters)
+                out += fmt::format("| `{}` | {} | {} | {} |\n", fmt::join(parameter.names, "`, `"),
+                                   parameter.type, parameter.defaultValue, parameter.meaning);
+        }
+        if (!doc.exemption.empty())
+            out += fmt::format("\nExempt from the sampling test: {}\n", doc.exemption);
+        for (const std::string &example : doc.examples)
+            out += fmt::format("\n```xml\n{}```\n", example);
+    }
+    return out;
+}
+
+} // namespace nori

@@ -1,0 +1,130 @@
+// Plugin doc comments: every plugin in plugins/ documents itself (what it models, every
+// parameter, runnable examples), and reads no parameter its doc block does not name.
+#include <nori/parser.h>
+#include <nori/plugindoc.h>
+
+#include "testutil.h"
+
+#include <catch2/catch.hpp>
+
+#include <map>
+#include <set>
+
+using namespace nori;
+using Catch::Contains;
+using nori::testing::errorOf;
+
+namespace {
+
+/// The plugins registered from files under plugins/ (not the tests' own plugins).
+std::vector<std::string> shippedPlugins() {
+    std::vector<std::string> names;
+    for (const auto &[type, name] : NoriObjectFactory::registeredClasses())
+        if (shortSourcePath(NoriObjectFactory::entry(name).sourceFile).rfind("plugins/", 0) == 0)
+            names.push_back(name);
+    return names;
+}
+
+} // namespace
+
+TEST_CASE("Doc comments parse into name, summary, parameters and examples", "[docs]") {
+    const PluginDoc doc = parsePluginDoc(R"(/*
+ * phong — a glossy lobe (Lafortune and Willems 1994). More text. And more.
+ *
+ * Parameters:
+ *   kd        color    0.5    diffuse albedo
+ *   exponent  float    20     the lobe's
+ *                             sharpness
+ *   eta, k    color    (1, 1, 1)  two names
+ *
+ *   <bsdf type="phong"/>
+ *
+ *   <bsdf type="phong">
+ *       <float name="exponent" value="5"/>
+ *   </bsdf>
+ */)");
+    CHECK(doc.name == "phong");
+    CHECK(doc.summary == "a glossy lobe (Lafortune and Willems 1994).");
+    REQUIRE(doc.parameters.size() == 3);
+    CHECK(doc.parameters[1].names == std::vector<std::string>{"exponent"});
+    CHECK(doc.parameters[1].meaning == "the lobe's sharpness");
+    CHECK(doc.parameters[2].names == std::vector<std::string>{"eta", "k"});
+    CHECK(doc.parameters[2].defaultValue == "(1, 1, 1)");
+    CHECK(doc.documents("k"));
+    CHECK_FALSE(doc.documents("ks"));
+    REQUIRE(doc.examples.size() == 2);
+    CHECK(doc.examples[1] ==
+          "<bsdf type=\"phong\">\n    <float name=\"exponent\" value=\"5\"/>\n</bsdf>\n");
+
+    CHECK_THAT(errorOf([] { parsePluginDoc("/*\n * phong: no dash\n *\n * No parameters.\n */"); }),
+               Contains("must start with 'name — what it models'"));
+    CHECK_THAT(errorOf([] {
+                   parsePluginDoc("/*\n * a — b\n *\n * Parameters:\n *   x float 1 one space\n */");
+               }),
+               Contains("needs four columns two spaces apart"));
+    CHECK_THAT(errorOf([] {
+                   parsePluginDoc(
+                       "/*\n * a — b\n *\n * Parameters:\n *   x  real  1  wrong type\n */");
+               }),
+               Contains("has the type 'real'"));
+    CHECK_THAT(errorOf([] { parsePluginDoc("/*\n * a — b\n */"); }),
+               Contains("neither 'Parameters:' nor 'No parameters'"));
+}
+
+TEST_CASE("Every plugin has a doc block with its name and at least one example", "[docs]") {
+    const std::vector<std::string> plugins = shippedPlugins();
+    REQUIRE(plugins.size() > 30);
+    for (const std::string &name : plugins) {
+        INFO(name << " (" << NoriObjectFactory::entry(name).sourceFile << ")");
+        const std::string comment = docCommentOf(name);
+        REQUIRE_FALSE(comment.empty());
+        const PluginDoc doc = parsePluginDoc(comment);
+        CHECK(doc.name == name);
+        CHECK_FALSE(doc.summary.empty());
+        CHECK_FALSE(doc.examples.empty());
+    }
+}
+
+TEST_CASE("Every plugin's examples load, and it reads only documented parameters", "[docs]") {
+    // Which parameters each plugin asked its property list for, as the examples build them.
+    std::map<std::string, std::set<std::string>> queried;
+    NoriObjectFactory::setObserver([&](const std::string &name, const PropertyList &props) {
+        std::set<std::string> &names = queried[name]; // also for plugins without parameters
+        for (const std::string &parameter : props.queriedNames())
+            names.insert(parameter);
+    });
+    for (const std::string &name : shippedPlugins()) {
+        const PluginDoc doc = parsePluginDoc(docCommentOf(name));
+        queried.erase(name);
+        for (const std::string &example : doc.examples) {
+            INFO(name << " example:\n" << example);
+            // Examples name files relative to the repository (scenes/...).
+            CHECK_NOTHROW(loadFromXMLString(example, NORI_SOURCE_DIR));
+        }
+        INFO(name);
+        CHECK(queried.count(name) == 1); // an example built it
+        for (const std::string &parameter : queried[name]) {
+            INFO(name << " reads '" << parameter << "'");
+            CHECK(doc.documents(parameter));
+        }
+    }
+    NoriObjectFactory::setObserver({});
+}
+
+TEST_CASE("nori --list-plugins filters by kind and prints one plugin's doc", "[docs][cli]") {
+    using nori::testing::runNori;
+    auto bsdfs = runNori({"--list-plugins", "bsdf"});
+    CHECK(bsdfs.exitCode == 0);
+    CHECK_THAT(bsdfs.output, Contains("bsdf:\n") && Contains("  diffuse ") &&
+                                 Contains("an ideal Lambertian reflector") &&
+                                 !Contains("integrator:"));
+    auto diffuse = runNori({"--list-plugins", "diffuse"});
+    CHECK(diffuse.exitCode == 0);
+    CHECK_THAT(diffuse.output, Contains("diffuse (bsdf, plugins/bsdfs/diffuse.cpp)") &&
+                                   Contains("albedo  color  0.5") &&
+                                   Contains("<bsdf type=\"diffuse\">"));
+    auto typo = runNori({"--list-plugins", "difuse"});
+    CHECK(typo.exitCode == 1);
+    CHECK_THAT(typo.output, Contains("'difuse' is neither a kind of plugin nor a plugin (did you "
+                                     "mean 'diffuse'?)"));
+}
