@@ -110,6 +110,8 @@ TEST_CASE("Every warp draws from its pdf", "[statistics][warp]") {
             parameters = {-0.6f, 0.0f, 0.8f};
         if (warp.name == "sphere_cap")
             parameters = {-0.5f, 0.5f, 0.95f};
+        if (warp.name == "cosine_power")
+            parameters = {0.0f, 1.0f, 20.0f, 300.0f};
         for (float parameter : parameters) {
             const ChiSquareReport report = runChiSquareTest(warp.routine(parameter), testOptions());
             INFO(warp.name << " " << parameter << ": " << report.result.message);
@@ -164,6 +166,13 @@ TEST_CASE("Negative controls: the χ² test rejects wrong warps", "[statistics][
     SamplingRoutine uniformForCosine = findWarp("uniform_hemisphere").routine(0.0f);
     uniformForCosine.pdf = [](const Vector3f &v) { return Warp::squareToCosineHemispherePdf(v); };
     expectRejected("uniform hemisphere samples against the cosine pdf", uniformForCosine);
+
+    SamplingRoutine phongNormalisation = findWarp("cosine_power").routine(20.0f);
+    phongNormalisation.pdf = [](const Vector3f &v) {
+        // The classic slip: (n + 2)/2π, the normalisation of the cos-weighted lobe.
+        return Warp::squareToCosinePowerHemispherePdf(v, 20.0f) * 22.0f / 21.0f;
+    };
+    expectRejected("cosine power 20 with (n + 2)/2π for (n + 1)/2π", phongNormalisation);
 
     SamplingRoutine ggxAsBeckmann = findWarp("ggx").routine(0.3f);
     ggxAsBeckmann.pdf = [](const Vector3f &m) { return Warp::squareToBeckmannPdf(m, 0.3f); };

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <nori/bitmap.h>
+#include <nori/object.h>
 #include <nori/statistics.h>
 #include <nori/vector.h>
 
@@ -58,6 +59,15 @@ struct ChiSquareReport {
 /// Runs the test. A sample outside the domain rejects it, as does a pdf that integrates
 /// to more than 1 (beyond quadrature error).
 ChiSquareReport runChiSquareTest(const SamplingRoutine &routine, const ChiSquareOptions &options);
+
+/// The parameters of a plugin as its toString() lists them ("alpha=0.3, material=Au"
+/// from "RoughConductor[alpha=0.3, material=Au]"), for naming pictures.
+std::string parameterSetOf(const NoriObject &plugin);
+/// A file name (without folder) for the picture of a χ² test: plugin, parameter set and
+/// condition (angle, reference point), with characters unsafe in file names replaced,
+/// e.g. "roughconductor_alpha=0.3-material=Au_wi-30deg".
+std::string chiSquarePictureName(const std::string &plugin, const std::string &parameters,
+                                 const std::string &condition);
 
 /// Observed | expected | signed difference, side by side (the first two on the same
 /// scale), with labels and the verdict underneath: the picture warptest writes.

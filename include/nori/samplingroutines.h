@@ -31,5 +31,10 @@ SamplingRoutine phaseRoutine(const PhaseFunction &phase, const Vector3f &wi);
 /// Directions toward the light sampled from `ref`, against emitter.pdf(). For an area
 /// light the queried direction is traced to its shape to find p and n.
 SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref);
+/// A reference point from which to test an emitter, chosen by `u`: on a sphere around
+/// its shape's bounding box, at a distance of the box's diagonal from its centre (near
+/// enough that the light covers several histogram bins); for shapeless lights, on the
+/// unit sphere.
+Point3f emitterReferencePoint(const Emitter &emitter, const Point2f &u);
 
 } // namespace nori

@@ -72,6 +72,7 @@ public:
 
     const BoundingBox3f &getBoundingBox() const { return m_bbox; }
     const BSDF *getBSDF() const { return m_bsdf.get(); }
+    std::shared_ptr<BSDF> getBSDFPtr() const { return m_bsdf; }
     /// The area light on this shape, or nullptr.
     const Emitter *getEmitter() const { return m_emitter.get(); }
     std::shared_ptr<Emitter> getEmitterPtr() const { return m_emitter; }

@@ -37,6 +37,11 @@ public:
     static Vector3f squareToCosineHemisphere(const Point2f &sample);
     static float squareToCosineHemispherePdf(const Vector3f &v);
 
+    /// A cosine-power lobe about +z, density (n + 1)/(2π) cos^n θ on the hemisphere: the
+    /// glossy lobe of the modified Phong model (Lafortune and Willems 1994, §4).
+    static Vector3f squareToCosinePowerHemisphere(const Point2f &sample, float exponent);
+    static float squareToCosinePowerHemispherePdf(const Vector3f &v, float exponent);
+
     /// Uniform on the spherical cap cos θ ≥ cosThetaMax about +z; density
     /// 1/(2π(1 − cosThetaMax)).
     static Vector3f squareToUniformSphereCap(const Point2f &sample, float cosThetaMax);

@@ -38,11 +38,16 @@ public:
         if (bRec.measure != ESolidAngle || !geometry(bRec.wi, bRec.wo, g))
             return Color3f(0.0f);
         const float D = m_distribution.D(g.h), G = m_distribution.G(bRec.wi, bRec.wo, g.h);
-        const float F = fresnelDielectric(bRec.wi.dot(g.h), m_extIOR, m_intIOR);
         const float cosI = std::abs(Frame::cosTheta(bRec.wi)),
                     cosO = std::abs(Frame::cosTheta(bRec.wo));
         if (g.reflection)
-            return Color3f(F * D * G / (4.0f * cosI * cosO));
+            return Color3f(fresnelDielectric(bRec.wi.dot(g.h), m_extIOR, m_intIOR) * D * G /
+                           (4.0f * cosI * cosO));
+        // F is the same from both sides of a refraction. From inside, near total internal
+        // reflection, cos θt = √(1 − sin²θt) loses its digits in single precision, so F is
+        // computed from the outside, where it is well conditioned (and f stays reciprocal).
+        const Vector3f &outside = Frame::cosTheta(bRec.wi) > 0.0f ? bRec.wi : bRec.wo;
+        const float F = fresnelDielectric(outside.dot(g.h), m_extIOR, m_intIOR);
         // Walter eq. 21 with light arriving along wo: the viewer's side is "o" there.
         const float iDotH = bRec.wi.dot(g.h), oDotH = bRec.wo.dot(g.h);
         const float denominator = g.etaO * oDotH + g.etaI * iDotH;

@@ -124,16 +124,8 @@ private:
                                wi.y(), wi.z());
             return phaseRoutine(static_cast<const PhaseFunction &>(subject), wi);
         }
-        // Emitters: reference points at a distance of the light's bounding-box diagonal
-        // from its centre, near enough that the light covers several histogram bins.
         const auto &emitter = static_cast<const Emitter &>(subject);
-        Point3f center(0.0f);
-        float radius = 1.0f;
-        if (const Shape *shape = emitter.getShape()) {
-            center = shape->getBoundingBox().getCenter();
-            radius = std::max(shape->getBoundingBox().getExtents().norm(), 1e-3f);
-        }
-        const Point3f ref = center + radius * Warp::squareToUniformSphere(u);
+        const Point3f ref = emitterReferencePoint(emitter, u);
         what = fmt::format("{} from ref = ({:.3f}, {:.3f}, {:.3f})", subject.toString(), ref.x(),
                            ref.y(), ref.z());
         return emitterRoutine(emitter, ref);

@@ -3,6 +3,7 @@
 #include <nori/filesystem.h>
 #include <nori/parser.h>
 #include <nori/plugindoc.h>
+#include <nori/plugintest.h>
 #include <nori/progress.h>
 #include <nori/render.h>
 #include <nori/scene.h>
@@ -46,6 +47,13 @@ Options:
   --list-plugins [KIND|NAME]
                      list the plugins (of one kind: bsdf, emitter, ...) with a line on
                      each, or print one plugin's parameters, defaults and examples
+  --test-plugin NAME...
+                     test sampling plugins (BSDFs, phase functions, emitters) built from
+                     the examples of their doc comments: chi-square, weights, reciprocity,
+                     energy, discrete laws; exits 1 if any fails
+  --test-plugins     the same for every registered BSDF, phase function and emitter
+  --pictures DIR     where --test-plugin writes pictures of failing chi-square tests
+                     (default: the current folder); --all-pictures: of every test
   --plugins-markdown FILE
                      write the plugin reference (docs/plugins.md) to FILE
   -h, --help         this text
@@ -68,6 +76,9 @@ struct Options {
     bool listPlugins = false;
     std::string listWhat;        ///< the KIND or NAME after --list-plugins
     std::string markdownFile;
+    std::vector<std::string> pluginsToTest;
+    bool testAllPlugins = false;
+    PluginTestOptions pluginTest;
     bool help = false;
 };
 
@@ -94,6 +105,16 @@ Options parseCommandLine(int argc, char **argv) {
             if (i + 1 < argc && argv[i + 1][0] != '-' &&
                 !endsWith(toLower(argv[i + 1]), ".xml"))
                 options.listWhat = argv[++i];
+        } else if (arg == "--test-plugin") {
+            options.pluginsToTest.push_back(value(arg));
+            while (i + 1 < argc && argv[i + 1][0] != '-')
+                options.pluginsToTest.push_back(argv[++i]);
+        } else if (arg == "--test-plugins") {
+            options.testAllPlugins = true;
+        } else if (arg == "--pictures") {
+            options.pluginTest.pictureFolder = value(arg);
+        } else if (arg == "--all-pictures") {
+            options.pluginTest.allPictures = true;
         } else if (arg == "--plugins-markdown") {
             options.markdownFile = value(arg);
         } else if (arg == "--no-progress") {
@@ -189,6 +210,25 @@ int run(int argc, char **argv) {
                              ? pluginReference(options.listWhat)
                              : pluginList(options.listWhat));
         return 0;
+    }
+    if (options.testAllPlugins || !options.pluginsToTest.empty()) {
+        if (options.pluginTest.pictureFolder.empty())
+            options.pluginTest.pictureFolder = ".";
+        const std::vector<std::string> names =
+            options.testAllPlugins ? samplingPlugins() : options.pluginsToTest;
+        for (const std::string &name : names)
+            if (!NoriObjectFactory::isRegistered(name))
+                NoriObjectFactory::createInstance(name, NoriObject::EBSDF, {}); // did you mean
+        std::vector<std::string> failed;
+        const auto results = testSamplingPlugins(names, options.pluginTest);
+        for (size_t i = 0; i < names.size(); ++i) {
+            fmt::print("{}\n", results[i].report);
+            if (!results[i].passed)
+                failed.push_back(names[i]);
+        }
+        fmt::print("{} of {} plugins passed{}\n", names.size() - failed.size(), names.size(),
+                   failed.empty() ? "" : fmt::format("; failed: {}", fmt::join(failed, ", ")));
+        return failed.empty() ? 0 : 1;
     }
     if (!options.markdownFile.empty()) {
         writeFileIfChanged(options.markdownFile, pluginsMarkdown());

@@ -89,6 +89,18 @@ float Warp::squareToCosineHemispherePdf(const Vector3f &v) {
     return isUnit(v) && v.z() >= 0.0f ? v.z() * kInvPi : 0.0f;
 }
 
+Vector3f Warp::squareToCosinePowerHemisphere(const Point2f &sample, float exponent) {
+    // The CDF of cos θ is cos^{n+1} θ, so cos θ = u^{1/(n+1)}.
+    return sphericalDirection(std::pow(sample.x(), 1.0f / (exponent + 1.0f)),
+                              2.0f * kPi * sample.y());
+}
+
+float Warp::squareToCosinePowerHemispherePdf(const Vector3f &v, float exponent) {
+    if (!isUnit(v) || v.z() < 0.0f)
+        return 0.0f;
+    return (exponent + 1.0f) * kInvTwoPi * std::pow(v.z(), exponent);
+}
+
 Vector3f Warp::squareToUniformSphereCap(const Point2f &sample, float cosThetaMax) {
     // cos θ is uniform on [cosThetaMax, 1] (a cap's area is linear in cos θ).
     return sphericalDirection(1.0f - sample.x() * (1.0f - cosThetaMax), 2.0f * kPi * sample.y());

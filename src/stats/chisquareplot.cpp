@@ -7,6 +7,36 @@
 
 namespace nori {
 
+std::string parameterSetOf(const NoriObject &plugin) {
+    const std::string text = plugin.toString();
+    const size_t open = text.find('['), close = text.rfind(']');
+    if (open == std::string::npos || close == std::string::npos || close <= open)
+        return "";
+    return text.substr(open + 1, close - open - 1);
+}
+
+std::string chiSquarePictureName(const std::string &plugin, const std::string &parameters,
+                                 const std::string &condition) {
+    // Letters, digits and "=.-" are kept; every other run of characters becomes one '-'.
+    auto clean = [](const std::string &text) {
+        std::string out;
+        for (char c : text) {
+            if (std::isalnum(static_cast<unsigned char>(c)) || c == '=' || c == '.' || c == '-')
+                out += c;
+            else if (!out.empty() && out.back() != '-')
+                out += '-';
+        }
+        while (!out.empty() && out.back() == '-')
+            out.pop_back();
+        return out.substr(0, 100);
+    };
+    std::string name = clean(plugin);
+    for (const std::string &part : {parameters, condition})
+        if (!clean(part).empty())
+            name += "_" + clean(part);
+    return name;
+}
+
 namespace {
 
 /// A 5x7 bitmap font for labels: each glyph is 7 rows of 5 bits (bit 4 = left column).

@@ -79,6 +79,11 @@ const std::vector<NamedWarp> &namedWarps() {
          [](float) {
              return spherical(Warp::squareToCosineHemisphere, Warp::squareToCosineHemispherePdf);
          }},
+        {"cosine_power", "exponent", 20.0f,
+         [](float exponent) {
+             return parametric(Warp::squareToCosinePowerHemisphere,
+                               Warp::squareToCosinePowerHemispherePdf, exponent);
+         }},
         {"sphere_cap", "cosThetaMax", 0.5f,
          [](float cosThetaMax) {
              return parametric(Warp::squareToUniformSphereCap, Warp::squareToUniformSphereCapPdf,
@@ -142,6 +147,16 @@ SamplingRoutine phaseRoutine(const PhaseFunction &phase, const Vector3f &wi) {
         return phase.pdf(PhaseFunctionQueryRecord(wi, wo, ESolidAngle));
     };
     return routine;
+}
+
+Point3f emitterReferencePoint(const Emitter &emitter, const Point2f &u) {
+    Point3f center(0.0f);
+    float radius = 1.0f;
+    if (const Shape *shape = emitter.getShape()) {
+        center = shape->getBoundingBox().getCenter();
+        radius = std::max(shape->getBoundingBox().getExtents().norm(), 1e-3f);
+    }
+    return center + radius * Warp::squareToUniformSphere(u);
 }
 
 SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref) {
