@@ -207,6 +207,104 @@ TEST_CASE("A polygonal area light over a plane matches Lambert's formula", "[int
         }
 }
 
+namespace {
+
+/// Irradiance at the origin (normal +y) from a polygon of radiance Le, by Lambert's
+/// formula E = (Le/2) |Σ θᵢ (n · γᵢ)| (see the single-light case above).
+double lambertIrradiance(const std::vector<Point3f> &polygon, double radiance) {
+    const Vector3f n(0.0f, 1.0f, 0.0f);
+    double sum = 0.0;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const Vector3f a = Vector3f(polygon[i]).normalized();
+        const Vector3f b = Vector3f(polygon[(i + 1) % polygon.size()]).normalized();
+        const double theta = std::acos(std::clamp(static_cast<double>(a.dot(b)), -1.0, 1.0));
+        sum += theta * n.dot(a.cross(b).normalized());
+    }
+    return 0.5 * radiance * std::abs(sum);
+}
+
+std::string objQuad(const std::vector<Point3f> &quad) {
+    std::string obj;
+    for (const Point3f &p : quad)
+        obj += fmt::format("v {} {} {}\n", p.x(), p.y(), p.z());
+    return obj + "f 1 2 3 4\n";
+}
+
+} // namespace
+
+TEST_CASE("Several lights of very unequal power: Lambert's formula per light, summed",
+          "[integrator][ttest]") {
+    // Lights are picked in proportion to their power, so the dim ones are rarely sampled;
+    // every light must still count exactly once. A bright small quad, a dim large quad
+    // (power ratio ~300) and, for the strategies that can see it, a dim point light.
+    FloorDir dir;
+    const std::vector<Point3f> bright = {
+        {0.3f, 1.2f, -0.2f}, {0.6f, 1.2f, -0.2f}, {0.6f, 1.2f, 0.1f}, {0.3f, 1.2f, 0.1f}};
+    const std::vector<Point3f> dim = {
+        {-1.5f, 2.0f, -1.0f}, {0.5f, 2.0f, -1.0f}, {0.5f, 2.0f, 1.0f}, {-1.5f, 2.0f, 1.0f}};
+    dir.write("bright.obj", objQuad(bright));
+    dir.write("dim.obj", objQuad(dim));
+    const double albedo = 0.6, brightLe = 40.0, dimLe = 0.3;
+    const double areaLights =
+        albedo / M_PI * (lambertIrradiance(bright, brightLe) + lambertIrradiance(dim, dimLe));
+    // A point light of intensity 0.2 at (−0.5, 1, 0.5): E = I cos θ / d².
+    const double pointLight = albedo / M_PI * 0.2 * (1.0 / std::sqrt(1.5)) / 1.5;
+    const std::string lights = R"(
+        <mesh type="obj"><string name="filename" value="bright.obj"/>
+            <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+            <emitter type="area"><color name="radiance" value="40"/></emitter></mesh>
+        <mesh type="obj"><string name="filename" value="dim.obj"/>
+            <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+            <emitter type="area"><color name="radiance" value="0.3"/></emitter></mesh>)";
+    const std::string point = R"(<emitter type="point"><point name="position" value="-0.5, 1, 0.5"/>
+            <color name="intensity" value="0.2"/></emitter>)";
+    const std::string camera = pinpointCamera("2, 1, 3", "0, 0, 0");
+    for (const auto *list : {&kPathIntegrators, &kDirectIntegrators})
+        for (const std::string &name : *list) {
+            INFO(name << ", area lights only: " << areaLights);
+            CHECK(tTest("<integrator type=\"" + name + "\"/>", camera + kFloor + lights,
+                        areaLights, dir.folder(), 100000));
+        }
+    for (const char *name : {"direct_ems", "direct_mis", "whitted", "path_ems", "path_mis"}) {
+        INFO(name << ", with the point light: " << areaLights + pointLight);
+        CHECK(tTest(std::string("<integrator type=\"") + name + "\"/>",
+                    camera + kFloor + lights + point, areaLights + pointLight, dir.folder(),
+                    100000));
+    }
+    // Negative control: the answer without the dim light is rejected.
+    const double withoutDim = albedo / M_PI * lambertIrradiance(bright, brightLe);
+    CHECK_FALSE(tTest("<integrator type=\"path_mis\"/>", camera + kFloor + lights, withoutDim,
+                      dir.folder(), 100000));
+}
+
+TEST_CASE("Mirror and glass furnaces: a specular sphere in a uniformly emitting room sees 1",
+          "[integrator][ttest]") {
+    // Every path ends on the room's walls, which emit 1 and absorb everything, so any
+    // specular chain (mirror, or glass with its η² radiance scaling in and out) sees 1.
+    const std::string room = R"(
+        <mesh type="sphere"><float name="radius" value="5"/><boolean name="flipNormals" value="true"/>
+            <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+            <emitter type="area"><color name="radiance" value="1"/></emitter></mesh>)";
+    const std::string camera = pinpointCamera("0, 0, 3", "0.1, 0.2, 0");
+    const std::string mirror =
+        R"(<mesh type="sphere"><bsdf type="mirror"/></mesh>)";
+    const std::string glass =
+        R"(<mesh type="sphere"><bsdf type="dielectric"/></mesh>)";
+    // One specular bounce reaches the wall: every integrator follows a mirror.
+    for (const auto *list : {&kPathIntegrators, &kDirectIntegrators})
+        for (const std::string &name : *list) {
+            INFO(name << " and a mirror");
+            CHECK(tTest("<integrator type=\"" + name + "\"/>", camera + room + mirror, 1.0));
+        }
+    // Glass needs two refractions: the path tracers and Whitted's recursion.
+    for (const std::string name : {"path_mats", "path_ems", "path_mis", "whitted"}) {
+        INFO(name << " and glass");
+        CHECK(tTest("<integrator type=\"" + name + "\"/>", camera + room + glass, 1.0));
+    }
+    // Negative control: a one-bounce integrator loses the refracted light.
+    CHECK_FALSE(tTest("<integrator type=\"direct_mis\"/>", camera + room + glass, 1.0));
+}
+
 TEST_CASE("A spherical light over a plane (cone sampling) matches its closed form",
           "[integrator][ttest]") {
     // A sphere of radius r and radiance Le straight above the point, centre at height h,
