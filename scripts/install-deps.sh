@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages needed to build and test the renderer, skipping
-# those already installed (so it is quick to run again). Run as root or with sudo.
+# Installs the Debian 12 packages needed to build and render, skipping those already
+# installed (so it is quick to run again). Run as root or with sudo.
+#   scripts/install-deps.sh          what building and rendering need
+#   scripts/install-deps.sh --test   also the test tools: Catch2, clang with libFuzzer
 set -euo pipefail
 
 packages=(
@@ -11,8 +13,18 @@ packages=(
     libtinyexr-dev          # EXR reading and writing
     libtbb-dev              # parallel render loop
     libfmt-dev              # message formatting
-    catch2                  # unit and statistical tests
 )
+if [ "${1:-}" = "--test" ]; then
+    packages+=(
+        catch2              # unit and statistical tests
+        clang               # the fuzz targets' compiler ...
+        libclang-rt-14-dev  # ... and its libFuzzer, ASan and UBSan runtimes
+        util-linux          # prlimit, for the out-of-memory case of the bad-input corpus
+    )
+elif [ -n "${1:-}" ]; then
+    echo "usage: $0 [--test]" >&2
+    exit 2
+fi
 
 missing=()
 for package in "${packages[@]}"; do

@@ -149,3 +149,36 @@ TEST_CASE("Ctrl-C is honoured within a pixel, even at 10^9 samples per pixel", "
     CHECK(result.exitCode == 130);
     CHECK_THAT(result.output, Contains("Interrupted: wrote the 0 of 1 blocks"));
 }
+
+TEST_CASE("The exposure option brightens the PNG by 2^E and leaves the EXR alone; version", "[cli]") {
+    TempDir dir;
+    dir.write("meshes/floor.obj", kFloor);
+    const std::string scene = dir.write("scene.xml", kScene);
+    auto plain = runNori({"--no-progress", "-o", (dir.path() / "plain").string(), scene});
+    auto bright = runNori(
+        {"--no-progress", "--exposure", "1", "-o", (dir.path() / "bright").string(), scene});
+    REQUIRE(plain.exitCode == 0);
+    REQUIRE(bright.exitCode == 0);
+    const Bitmap exr0 = Bitmap::load((dir.path() / "plain.exr").string());
+    const Bitmap exr1 = Bitmap::load((dir.path() / "bright.exr").string());
+    const Bitmap png0 = Bitmap::load((dir.path() / "plain.png").string());
+    const Bitmap png1 = Bitmap::load((dir.path() / "bright.png").string());
+    int compared = 0;
+    for (int y = 0; y < exr0.height(); ++y)
+        for (int x = 0; x < exr0.width(); ++x) {
+            REQUIRE((exr0(y, x) == exr1(y, x)).all());
+            // Unclipped pixels: twice as bright in linear terms, up to 8-bit rounding.
+            const float v0 = png0(y, x).g(), v1 = png1(y, x).g();
+            if (v0 > 0.05f && v1 < 0.95f) {
+                CHECK(v1 == Approx(2.0f * v0).epsilon(0.05));
+                ++compared;
+            }
+        }
+    CHECK(compared > 100);
+
+    auto version = runNori({"--version"});
+    CHECK(version.exitCode == 0);
+    CHECK_THAT(version.output, Catch::Matches("nori [0-9]+\\.[0-9]+\\.[0-9]+\n"));
+    auto badExposure = runNori({"--exposure", "nan", scene});
+    CHECK(badExposure.exitCode == 1);
+}

@@ -25,8 +25,8 @@ public:
     static Bitmap load(const std::string &filename);
     /// Writes all channels as 32-bit float linear RGB.
     void saveEXR(const std::string &filename) const;
-    /// Writes 8-bit sRGB, clamping to [0, 1].
-    void savePNG(const std::string &filename) const;
+    /// Writes 8-bit sRGB of the values scaled by 2^exposure, clamping to [0, 1].
+    void savePNG(const std::string &filename, float exposure = 0.0f) const;
 };
 
 } // namespace nori

@@ -40,6 +40,8 @@ Options:
   -o, --output FILE  write FILE.exr and FILE.png instead (an .exr/.png suffix is dropped)
   -t, --threads N    number of worker threads, 1 to 1024 (default: all cores)
   --spp N            samples per pixel, overriding the scene's sampler
+  --exposure E       brighten the PNG by 2^E (E in stops, may be negative); the EXR
+                     keeps the rendered values
   --camera-convention epfl|eth
                      which way image x runs for cameras that do not say: epfl (x
                      mirrored, Nori 2's default) or eth (the ETH course's Nori)
@@ -56,6 +58,7 @@ Options:
                      (default: the current folder); --all-pictures: of every test
   --plugins-markdown FILE
                      write the plugin reference (docs/plugins.md) to FILE
+  --version          print the version
   -h, --help         this text
 
 On Ctrl-C the blocks finished so far are written to <file>_partial.exr/.png and nori
@@ -73,6 +76,8 @@ struct Options {
     int threads = 0;
     size_t samplesPerPixel = 0;
     bool showProgress = true;
+    float exposure = 0.0f;
+    bool version = false;
     bool listPlugins = false;
     std::string listWhat;        ///< the KIND or NAME after --list-plugins
     std::string markdownFile;
@@ -117,6 +122,13 @@ Options parseCommandLine(int argc, char **argv) {
             options.pluginTest.allPictures = true;
         } else if (arg == "--plugins-markdown") {
             options.markdownFile = value(arg);
+        } else if (arg == "--version") {
+            options.version = true;
+        } else if (arg == "--exposure") {
+            options.exposure = toFloat(value(arg), arg);
+            if (!std::isfinite(options.exposure) || std::abs(options.exposure) > 64.0f)
+                throw NoriException("--exposure must lie in [-64, 64] stops, got {}",
+                                    options.exposure);
         } else if (arg == "--no-progress") {
             options.showProgress = false;
         } else if (arg == "-o" || arg == "--output") {
@@ -177,7 +189,7 @@ int renderToFiles(Scene &scene, const Options &options) {
 
     const std::string stem = outputStem(options) + (result.complete ? "" : "_partial");
     result.image.saveEXR(stem + ".exr");
-    result.image.savePNG(stem + ".png");
+    result.image.savePNG(stem + ".png", options.exposure);
 
     if (result.invalidSamples > 0)
         fmt::print(stderr,
@@ -202,6 +214,10 @@ int run(int argc, char **argv) {
     Options options = parseCommandLine(argc, argv);
     if (options.help) {
         fmt::print("{}", kUsage);
+        return 0;
+    }
+    if (options.version) {
+        fmt::print("nori {}\n", NORI_VERSION);
         return 0;
     }
     if (options.listPlugins) {

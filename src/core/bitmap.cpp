@@ -101,11 +101,12 @@ void Bitmap::saveEXR(const std::string &filename) const {
     }
 }
 
-void Bitmap::savePNG(const std::string &filename) const {
+void Bitmap::savePNG(const std::string &filename, float exposure) const {
+    const float scale = std::exp2(exposure);
     std::vector<unsigned char> rgb(static_cast<size_t>(width()) * height() * 3);
     for (int y = 0; y < height(); ++y)
         for (int x = 0; x < width(); ++x) {
-            Color3f srgb = coeff(y, x).toSRGB();
+            Color3f srgb = Color3f(coeff(y, x) * scale).toSRGB();
             for (int c = 0; c < 3; ++c) {
                 float value = std::isfinite(srgb[c]) ? std::clamp(srgb[c], 0.0f, 1.0f) : 0.0f;
                 rgb[3 * (static_cast<size_t>(y) * width() + x) + c] =
