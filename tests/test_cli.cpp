@@ -40,6 +40,10 @@ TEST_CASE("nori renders a scene to EXR and PNG next to it", "[cli]") {
     INFO(result.output);
     REQUIRE(result.exitCode == 0);
     CHECK_THAT(result.output, Contains("Rendering: 100%") && Contains("Done in"));
+    // Statistics as Nori and pbrt print them: the scene first, rays at the end.
+    CHECK_THAT(result.output, Contains("Scene: 2 shapes (2 triangles), 0 emitters; BVH of 3 "
+                                       "primitives built in") &&
+                                  Contains(" M rays traced, ") && Contains(" M rays/s)"));
     Bitmap image = Bitmap::load((dir.path() / "scene.exr").string());
     CHECK(image.width() == 48);
     CHECK(std::filesystem::exists(dir.path() / "scene.png"));

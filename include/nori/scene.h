@@ -17,6 +17,7 @@ public:
     static constexpr EClassType kClassType = EScene;
 
     explicit Scene(const PropertyList &props);
+    ~Scene() override;
 
     const Integrator *getIntegrator() const { return m_integrator.get(); }
     Integrator *getIntegrator() { return m_integrator.get(); }
@@ -34,14 +35,15 @@ public:
     float emitterPmf(const Emitter *emitter) const;
 
     /// Closest intersection along the ray's segment.
-    bool rayIntersect(const Ray3f &ray, Intersection &its) const {
-        return m_accel.rayIntersect(ray, its, false);
-    }
+    bool rayIntersect(const Ray3f &ray, Intersection &its) const;
     /// Whether anything blocks the ray's segment (a shadow ray).
-    bool rayIntersect(const Ray3f &ray) const {
-        Intersection its;
-        return m_accel.rayIntersect(ray, its, true);
-    }
+    bool rayIntersect(const Ray3f &ray) const;
+
+    /// Rays traced through rayIntersect so far, over all threads.
+    uint64_t rayCount() const;
+    /// "3 shapes (1,024 triangles), 2 emitters; BVH of 1,026 primitives built in 4 ms",
+    /// what nori prints before rendering (Nori and pbrt print the same).
+    std::string statisticsSummary() const;
 
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     /// Builds the acceleration structure, adds a default sampler, checks completeness.
@@ -59,6 +61,9 @@ private:
     std::shared_ptr<Camera> m_camera;
     std::shared_ptr<Sampler> m_sampler;
     Accel m_accel;
+    double m_buildSeconds = 0.0;
+    struct RayCounter; ///< a count per thread (TBB), summed when asked
+    std::unique_ptr<RayCounter> m_rayCounter;
 };
 
 } // namespace nori

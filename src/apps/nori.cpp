@@ -185,7 +185,10 @@ int renderToFiles(Scene &scene, const Options &options) {
                                            : scene.getSampler()->getSampleCount(),
                renderOptions.threads);
 
+    fmt::print(stderr, "Scene: {}\n", scene.statisticsSummary());
+    const uint64_t raysBefore = scene.rayCount();
     RenderResult result = renderScene(scene, renderOptions);
+    const double rays = static_cast<double>(scene.rayCount() - raysBefore);
 
     const std::string stem = outputStem(options) + (result.complete ? "" : "_partial");
     result.image.saveEXR(stem + ".exr");
@@ -203,9 +206,12 @@ int renderToFiles(Scene &scene, const Options &options) {
                    result.blocksDone, result.blocksTotal, stem, stem);
         return kExitInterrupted;
     }
-    fmt::print(stderr, "Done in {} ({:.2f} M samples/s); wrote {}.exr and {}.png\n",
+    fmt::print(stderr,
+               "Done in {} ({:.2f} M samples/s; {:.1f} M rays traced, {:.2f} M rays/s); wrote "
+               "{}.exr and {}.png\n",
                formatDuration(result.seconds),
-               static_cast<double>(result.samplesTaken) / result.seconds * 1e-6, stem, stem);
+               static_cast<double>(result.samplesTaken) / result.seconds * 1e-6, rays * 1e-6,
+               rays / result.seconds * 1e-6, stem, stem);
     return 0;
 }
 

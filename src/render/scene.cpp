@@ -1,9 +1,47 @@
+#include <nori/mesh.h>
 #include <nori/scene.h>
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <chrono>
 
 namespace nori {
 
-Scene::Scene(const PropertyList &props) {
+struct Scene::RayCounter {
+    tbb::enumerable_thread_specific<uint64_t> perThread{0};
+};
+
+Scene::Scene(const PropertyList &props) : m_rayCounter(std::make_unique<RayCounter>()) {
     (void)props;
+}
+
+Scene::~Scene() = default;
+
+bool Scene::rayIntersect(const Ray3f &ray, Intersection &its) const {
+    ++m_rayCounter->perThread.local();
+    return m_accel.rayIntersect(ray, its, false);
+}
+
+bool Scene::rayIntersect(const Ray3f &ray) const {
+    ++m_rayCounter->perThread.local();
+    Intersection its;
+    return m_accel.rayIntersect(ray, its, true);
+}
+
+uint64_t Scene::rayCount() const {
+    return m_rayCounter->perThread.combine(std::plus<uint64_t>());
+}
+
+std::string Scene::statisticsSummary() const {
+    size_t triangles = 0;
+    for (const auto &shape : m_shapes)
+        if (dynamic_cast<const Mesh *>(shape.get()))
+            triangles += shape->getPrimitiveCount();
+    return fmt::format("{} shapes ({} triangles), {} emitters; BVH of {} primitives built in {}",
+                       m_shapes.size(), triangles, m_emitters.size(),
+                       m_accel.statistics().primitives,
+                       m_buildSeconds < 1.0 ? fmt::format("{:.0f} ms", m_buildSeconds * 1e3)
+                                            : fmt::format("{:.2f} s", m_buildSeconds));
 }
 
 void Scene::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
@@ -45,7 +83,10 @@ void Scene::activate() {
         if (shape->getEmitterPtr())
             m_emitters.push_back(shape->getEmitterPtr());
     }
+    const auto start = std::chrono::steady_clock::now();
     m_accel.build();
+    m_buildSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     // Lights are chosen in proportion to their power; if all are dark, uniformly.
     m_emitterPdf.clear();
