@@ -26,9 +26,11 @@ void lookupConductor(const std::string &name, Color3f &eta, Color3f &k);
 void readConductorIOR(const PropertyList &props, const std::string &plugin, Color3f &eta,
                       Color3f &k);
 
-/// Mirror reflection of w about the normal n (w pointing away from the surface).
+/// Mirror reflection of w about the normal n (w pointing away from the surface),
+/// renormalised: 2(w·n)n − w of float unit vectors can come out one ulp long, with a
+/// z of 1.00000012 near the normal, which is no cosine.
 inline Vector3f reflect(const Vector3f &w, const Vector3f &n) {
-    return Vector3f(2.0f * w.dot(n) * n - w);
+    return Vector3f(2.0f * w.dot(n) * n - w).normalized();
 }
 
 /// Refracts w (pointing away) through the interface with normal n, where eta is the
@@ -40,7 +42,7 @@ inline bool refract(const Vector3f &w, const Vector3f &n, float eta, Vector3f &w
     if (sin2ThetaT >= 1.0f)
         return false;
     const float cosThetaT = std::sqrt(1.0f - sin2ThetaT);
-    wt = Vector3f(-w / eta + (cosThetaI / eta - cosThetaT) * n);
+    wt = Vector3f(-w / eta + (cosThetaI / eta - cosThetaT) * n).normalized();
     return true;
 }
 

@@ -28,8 +28,10 @@ const NamedWarp &findWarp(const std::string &name);
 SamplingRoutine bsdfRoutine(const BSDF &bsdf, const Vector3f &wi);
 /// wo sampled by phase.sample() for wi, against phase.pdf().
 SamplingRoutine phaseRoutine(const PhaseFunction &phase, const Vector3f &wi);
-/// Directions toward the light sampled from `ref`, against emitter.pdf(). For an area
-/// light the queried direction is traced to its shape to find p and n.
+/// Directions toward the light sampled from `ref`, against emitter.pdf(), in a frame whose
+/// +x points at the centre of the light's shape (so the light lies on the histogram's
+/// equator). For an area light the queried direction is traced to its shape to find p
+/// and n.
 SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref);
 /// A reference point from which to test an emitter, chosen by `u`: on a sphere around
 /// its shape's bounding box, at a distance of the box's diagonal from its centre (near

@@ -10,6 +10,7 @@
 #include <nori/strutil.h>
 #include <nori/test.h>
 
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -54,6 +55,9 @@ Options:
                      the examples of their doc comments: chi-square, weights, reciprocity,
                      energy, discrete laws; exits 1 if any fails
   --test-plugins     the same for every registered BSDF, phase function and emitter
+  --seed S           the seed of --test-plugin (default 1)
+  --seeds N          soak: run --test-plugin(s) with seeds 1..N and count the failures
+                     of each plugin against the 1% a correct one fails by chance
   --pictures DIR     where --test-plugin writes pictures of failing chi-square tests
                      (default: the current folder); --all-pictures: of every test
   --plugins-markdown FILE
@@ -83,6 +87,7 @@ struct Options {
     std::string markdownFile;
     std::vector<std::string> pluginsToTest;
     bool testAllPlugins = false;
+    int soakSeeds = 0;
     PluginTestOptions pluginTest;
     bool help = false;
 };
@@ -116,6 +121,10 @@ Options parseCommandLine(int argc, char **argv) {
                 options.pluginsToTest.push_back(argv[++i]);
         } else if (arg == "--test-plugins") {
             options.testAllPlugins = true;
+        } else if (arg == "--seed") {
+            options.pluginTest.seed = static_cast<uint64_t>(parsePositive(value(arg), arg));
+        } else if (arg == "--seeds") {
+            options.soakSeeds = parsePositive(value(arg), arg);
         } else if (arg == "--pictures") {
             options.pluginTest.pictureFolder = value(arg);
         } else if (arg == "--all-pictures") {
@@ -161,6 +170,47 @@ Options parseCommandLine(int argc, char **argv) {
         }
     }
     return options;
+}
+
+/// Runs the plugin tests with seeds 1..seeds and prints, per plugin, how many runs
+/// failed: a χ² rejection happens by chance in a fraction `significanceLevel` of runs of
+/// a correct plugin; any other failure (a value check, a sample outside the domain) is
+/// a bug whatever its rate.
+int soakPlugins(const std::vector<std::string> &names, int seeds, PluginTestOptions options) {
+    options.pictureFolder.clear();
+    std::vector<int> rejections(names.size(), 0), otherFailures(names.size(), 0);
+    std::vector<std::string> firstProblem(names.size());
+    const auto start = std::chrono::steady_clock::now();
+    for (int seed = 1; seed <= seeds; ++seed) {
+        options.seed = static_cast<uint64_t>(seed);
+        const auto results = testSamplingPlugins(names, options);
+        for (size_t i = 0; i < names.size(); ++i) {
+            if (results[i].passed)
+                continue;
+            const std::string &report = results[i].report;
+            const size_t fail = report.find("FAIL: ");
+            const std::string problem = report.substr(fail, report.find('\n', fail) - fail);
+            (problem.rfind("FAIL: χ²: chi^2", 0) == 0 ? rejections : otherFailures)[i]++;
+            if (firstProblem[i].empty())
+                firstProblem[i] = fmt::format("seed {}: {}", seed, problem);
+        }
+        fmt::print(stderr, "\rsoak: seed {} of {}", seed, seeds);
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fmt::print(stderr, "\n");
+    fmt::print("{:<20} {:>14} {:>14}  first problem\n", "plugin", "χ² rejections",
+               "other failures");
+    int bugs = 0;
+    for (size_t i = 0; i < names.size(); ++i) {
+        fmt::print("{:<20} {:>9} of {:<3} {:>14}  {}\n", names[i], rejections[i], seeds,
+                   otherFailures[i], firstProblem[i]);
+        bugs += otherFailures[i];
+    }
+    fmt::print("expected χ² rejections of a correct plugin: {:.2f} of {} runs (significance {:g} "
+               "per run); other failures: {}; {:.1f} s\n",
+               options.significanceLevel * seeds, seeds, options.significanceLevel, bugs, seconds);
+    return bugs == 0 ? 0 : 1;
 }
 
 /// The output path without extension: -o's argument, or the scene file's path.
@@ -241,6 +291,8 @@ int run(int argc, char **argv) {
         for (const std::string &name : names)
             if (!NoriObjectFactory::isRegistered(name))
                 NoriObjectFactory::createInstance(name, NoriObject::EBSDF, {}); // did you mean
+        if (options.soakSeeds > 0)
+            return soakPlugins(names, options.soakSeeds, options.pluginTest);
         std::vector<std::string> failed;
         const auto results = testSamplingPlugins(names, options.pluginTest);
         for (size_t i = 0; i < names.size(); ++i) {

@@ -160,15 +160,26 @@ Point3f emitterReferencePoint(const Emitter &emitter, const Point2f &u) {
 }
 
 SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref) {
+    // Directions are binned in a frame whose +x points from ref at the light's centre: the
+    // light then sits on the histogram's equator, where cells are regular, never at a
+    // pole, where they are thin wedges that the quadrature of a disk's edge gets wrong.
+    const Shape *shape = emitter.getShape();
+    const Vector3f toCenter = shape ? Vector3f(shape->getBoundingBox().getCenter() - ref)
+                                    : Vector3f(0.0f, 0.0f, 0.0f);
+    const Vector3f axis = toCenter.norm() > 0.0f ? Vector3f(toCenter.normalized())
+                                                 : Vector3f(1.0f, 0.0f, 0.0f);
+    const Frame around(axis); // n = axis; its tangents complete the basis
+    const Frame frame(axis, around.s, Normal3f(around.t));
     SamplingRoutine routine;
-    routine.sample = [&emitter, ref](const Point2f &u, Vector3f &wi) {
+    routine.sample = [&emitter, ref, frame](const Point2f &u, Vector3f &wi) {
         EmitterQueryRecord lRec(ref);
         if ((emitter.sample(lRec, u) == 0.0f).all())
             return false;
-        wi = lRec.wi;
+        wi = frame.toLocal(lRec.wi);
         return true;
     };
-    routine.pdf = [&emitter, ref](const Vector3f &wi) -> double {
+    routine.pdf = [&emitter, ref, frame](const Vector3f &local) -> double {
+        const Vector3f wi = frame.toWorld(local);
         EmitterQueryRecord lRec(ref);
         lRec.wi = wi;
         if (const Shape *shape = emitter.getShape()) {
