@@ -385,7 +385,7 @@ PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOpt
                                        : kEmitterChiSquareSamples;
                 chiSquare(routine, chi2, options,
                           chiSquarePictureName(name, parameters, c.condition),
-                          fmt::format("{} {}", subject.toString(), c.description), c, verdict);
+                          fmt::format("{} {}", subject.toString(), c.condition), c, verdict);
             }
             result.passed &= c.problem.empty();
             result.report += fmt::format("    {}: {}\n", c.description,
