@@ -88,6 +88,40 @@ TEST_CASE("chi2test rejects a BSDF and an emitter whose pdf does not match (nega
         <emitter type="test_cone"><float name="pdfScale" value="0.97"/></emitter></test>)"));
 }
 
+TEST_CASE("chi2test draws the picture of every failing case, named after plugin, parameters "
+          "and angle",
+          "[chi2test]") {
+    TempDir dir;
+    TestOptions options;
+    options.pictureFolder = dir.path().string();
+    auto count = [&] {
+        return std::distance(std::filesystem::directory_iterator(dir.path()),
+                             std::filesystem::directory_iterator());
+    };
+    auto run = [&](const std::string &xml) {
+        auto test = std::dynamic_pointer_cast<Test>(loadFromXMLString(xml));
+        REQUIRE(test);
+        return test->run(options);
+    };
+    const std::string passing = R"(<test type="chi2test"><integer name="testCount" value="2"/>
+        <integer name="sampleCount" value="100000"/><bsdf type="diffuse"/></test>)";
+    CHECK(run(passing));
+    CHECK(count() == 0); // nothing failed, nothing drawn
+    CHECK_FALSE(run(R"(<test type="chi2test"><integer name="testCount" value="3"/>
+        <integer name="sampleCount" value="100000"/><bsdf type="test_mismatched"/></test>)"));
+    CHECK(count() == 3);
+    for (const auto &entry : std::filesystem::directory_iterator(dir.path()))
+        CHECK_THAT(entry.path().filename().string(),
+                   Catch::Matches("test_mismatched_wi-[0-9.]+deg-phi--?[0-9]+deg\\.png"));
+    options.allPictures = true;
+    CHECK(run(passing));
+    CHECK(count() == 5); // and with the flag, the passing cases too
+    bool diffuseDrawn = false;
+    for (const auto &entry : std::filesystem::directory_iterator(dir.path()))
+        diffuseDrawn |= entry.path().filename().string().rfind("diffuse_albedo=-0.5-0.5-0.5_wi-", 0) == 0;
+    CHECK(diffuseDrawn);
+}
+
 TEST_CASE("ttest indexes references BSDF by BSDF (Nori 2's bug fixed)", "[ttest]") {
     const std::string bsdfs = R"(<string name="angles" value="0, 60"/>
         <integer name="sampleCount" value="1000"/>
@@ -125,8 +159,13 @@ TEST_CASE("warptest writes the picture and exits with the verdict", "[warptest]"
     CHECK(run({"cosine_hemisphere"}) == 0);
     CHECK(std::filesystem::exists(dir.path() / "warptest-cosine_hemisphere.png"));
     CHECK(run({"ggx", "--param", "0.2"}) == 0);
+    CHECK(std::filesystem::exists(dir.path() / "warptest-ggx_alpha=0.2.png"));
+    // Pictures are named after what was tested and the angle: runs do not overwrite.
     CHECK(run({"bsdf", "<bsdf type=\"diffuse\"/>", "--angle", "70"}) == 0);
+    CHECK(run({"bsdf", "<bsdf type=\"diffuse\"/>", "--angle", "30"}) == 0);
+    CHECK(std::filesystem::exists(dir.path() / "warptest-bsdf-diffuse_albedo=-0.5-0.5-0.5_70deg.png"));
+    CHECK(std::filesystem::exists(dir.path() / "warptest-bsdf-diffuse_albedo=-0.5-0.5-0.5_30deg.png"));
     CHECK(run({"phase", "<phase type=\"hg\"><float name=\"g\" value=\"-0.3\"/></phase>"}) == 0);
-    CHECK(std::filesystem::exists(dir.path() / "warptest-phase.png"));
+    CHECK(std::filesystem::exists(dir.path() / "warptest-phase-hg_g=-0.3_30deg.png"));
     CHECK(WEXITSTATUS(run({"cosine_hemispher"})) == 2); // a typo is an error, not a verdict
 }

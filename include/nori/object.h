@@ -40,10 +40,17 @@ public:
     virtual void activate() {}
     virtual std::string toString() const = 0;
 
+    /// The name the plugin was created by ("roughconductor"), set by the factory.
+    const std::string &pluginName() const { return m_pluginName; }
+    void setPluginName(const std::string &name) { m_pluginName = name; }
+
     /// The XML tag of a class type ("bsdf", "rfilter", ...).
     static std::string classTypeName(EClassType type);
     /// The class type of an XML tag, or EClassTypeCount when the tag is not an object.
     static EClassType classTypeFromName(const std::string &tag);
+
+private:
+    std::string m_pluginName;
 };
 
 /// Registry from plugin name to constructor.

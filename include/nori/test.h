@@ -6,12 +6,18 @@
 
 namespace nori {
 
+/// How a test run leaves its pictures (χ² tests draw observed | expected | difference).
+struct TestOptions {
+    std::string pictureFolder; ///< where pictures go; empty: no pictures
+    bool allPictures = false;  ///< a picture of every case, not only of failing ones
+};
+
 class Test : public NoriObject {
 public:
     static constexpr EClassType kClassType = ETest;
 
     /// Runs the test, printing its report to stdout; returns whether it passed.
-    virtual bool run() = 0;
+    virtual bool run(const TestOptions &options = {}) = 0;
 
     EClassType getClassType() const override { return kClassType; }
 };

@@ -3,7 +3,9 @@
  * every nested BSDF, phase function and emitter (an area light is given as the <mesh>
  * it is nested in). Each is tested `testCount` times (BSDFs
  * and phase functions for random incident directions, emitters from random reference
- * points); the significance level is Šidák-corrected over all tests.
+ * points); the significance level is Šidák-corrected over all tests. The picture of each
+ * failing test (of every test with nori --all-pictures) is written next to the XML file
+ * (or to nori --pictures DIR), named after the plugin, its parameters and the angle.
  *
  * Parameters:
  *   significanceLevel  float    0.01   probability of rejecting a correct sampler
@@ -26,6 +28,7 @@
 #include <nori/test.h>
 #include <nori/warp.h>
 
+#include <filesystem>
 #include <iostream>
 
 namespace nori {
@@ -78,7 +81,7 @@ public:
             throw NoriException("chi2test: nothing to test (nest a <bsdf>, <phase> or <emitter>)");
     }
 
-    bool run() override {
+    bool run(const TestOptions &testOptions) override {
         const int total = static_cast<int>(m_subjects.size()) * m_testCount;
         ChiSquareOptions options = m_options;
         options.significanceLevel = sidakCorrection(m_options.significanceLevel, total);
@@ -86,11 +89,24 @@ public:
         int passed = 0;
         for (const auto &subject : m_subjects) {
             for (int i = 0; i < m_testCount; ++i) {
-                std::string what;
-                SamplingRoutine routine = routineFor(*subject, random, what);
+                std::string what, condition;
+                SamplingRoutine routine = routineFor(*subject, random, what, condition);
                 options.seed = random.nextUInt();
                 const ChiSquareReport report = runChiSquareTest(routine, options);
                 std::cout << fmt::format("chi2test {}: {}\n", what, report.result.message);
+                if (!testOptions.pictureFolder.empty() &&
+                    (testOptions.allPictures || !report.result.passed)) {
+                    const std::string picture =
+                        (std::filesystem::path(testOptions.pictureFolder) /
+                         (chiSquarePictureName(subject->pluginName(), parameterSetOf(*subject),
+                                               condition) +
+                          ".png"))
+                            .string();
+                    std::filesystem::create_directories(testOptions.pictureFolder);
+                    renderChiSquareReport(report, subject->toString() + " " + condition)
+                        .savePNG(picture);
+                    std::cout << fmt::format("chi2test picture: {}\n", picture);
+                }
                 passed += report.result.passed ? 1 : 0;
             }
         }
@@ -109,25 +125,32 @@ public:
 private:
     /// The routine of one test of `subject`, with a random incident direction or
     /// reference point; `what` describes it for the report.
-    SamplingRoutine routineFor(const NoriObject &subject, PCG32 &random, std::string &what) const {
+    SamplingRoutine routineFor(const NoriObject &subject, PCG32 &random, std::string &what,
+                               std::string &condition) const {
         const Point2f u(random.nextFloat(), random.nextFloat());
         if (subject.getClassType() == EBSDF) {
             // Incident directions in the upper hemisphere, cos θ uniform (as Nori).
             const Vector3f wi = Warp::squareToUniformHemisphere(u);
             what = fmt::format("{} for wi = ({:.3f}, {:.3f}, {:.3f})", subject.toString(), wi.x(),
                                wi.y(), wi.z());
+            condition = fmt::format("wi-{:.1f}deg-phi-{:.0f}deg", radToDeg(std::acos(wi.z())),
+                                    radToDeg(std::atan2(wi.y(), wi.x())));
             return bsdfRoutine(static_cast<const BSDF &>(subject), wi);
         }
         if (subject.getClassType() == EPhaseFunction) {
             const Vector3f wi = Warp::squareToUniformSphere(u);
             what = fmt::format("{} for wi = ({:.3f}, {:.3f}, {:.3f})", subject.toString(), wi.x(),
                                wi.y(), wi.z());
+            condition = fmt::format("wi-{:.1f}deg-phi-{:.0f}deg",
+                                    radToDeg(std::acos(std::clamp(wi.z(), -1.0f, 1.0f))),
+                                    radToDeg(std::atan2(wi.y(), wi.x())));
             return phaseRoutine(static_cast<const PhaseFunction &>(subject), wi);
         }
         const auto &emitter = static_cast<const Emitter &>(subject);
         const Point3f ref = emitterReferencePoint(emitter, u);
         what = fmt::format("{} from ref = ({:.3f}, {:.3f}, {:.3f})", subject.toString(), ref.x(),
                            ref.y(), ref.z());
+        condition = fmt::format("ref-{:.2f}-{:.2f}-{:.2f}", ref.x(), ref.y(), ref.z());
         return emitterRoutine(emitter, ref);
     }
 

@@ -66,7 +66,7 @@ public:
                 m_bsdfs.empty() ? "one per scene" : "one per BSDF and angle, BSDF by BSDF");
     }
 
-    bool run() override {
+    bool run(const TestOptions &) override {
         const int total = static_cast<int>(m_references.size());
         const double alpha = sidakCorrection(m_significanceLevel, total);
         int passed = 0;

@@ -321,8 +321,17 @@ int run(int argc, char **argv) {
     for (const std::string &name : unusedDefines)
         fmt::print(stderr, "Warning: -D {}={} is not used: {} has no ${}\n", name,
                    options.defines.at(name), options.sceneFile, name);
-    if (auto test = std::dynamic_pointer_cast<Test>(root))
-        return test->run() ? 0 : 1;
+    if (auto test = std::dynamic_pointer_cast<Test>(root)) {
+        TestOptions testOptions;
+        testOptions.allPictures = options.pluginTest.allPictures;
+        testOptions.pictureFolder = options.pluginTest.pictureFolder;
+        if (testOptions.pictureFolder.empty()) {
+            // Next to the test file, as renders are.
+            const std::string folder = fs::path(options.sceneFile).parent_path().string();
+            testOptions.pictureFolder = folder.empty() ? "." : folder;
+        }
+        return test->run(testOptions) ? 0 : 1;
+    }
     if (auto scene = std::dynamic_pointer_cast<Scene>(root)) {
         struct sigaction action {};
         action.sa_handler = onInterrupt;

@@ -36,7 +36,8 @@ Options:
   --out DIR              folder for the picture (default .)
   --list                 list the warps
 
-Writes DIR/warptest-<name>.png (observed | expected | difference), prints the p-value and
+Writes DIR/warptest-<what>_<parameters>_<angle>.png (observed | expected | difference:
+named after what was tested, so runs do not overwrite each other), prints the p-value and
 the verdict, and exits 0 when the test passes, 1 when it fails.
 )";
 
@@ -119,7 +120,7 @@ int run(int argc, char **argv) {
     // Keep the plugin alive while its routine runs.
     std::shared_ptr<NoriObject> plugin;
     SamplingRoutine routine;
-    std::string name, title;
+    std::string name, title; // name: of the picture, after what was tested and how
     const float theta = degToRad(angle);
     const Vector3f wi(std::sin(theta), 0.0f, std::cos(theta));
     const std::string &what = positional[0];
@@ -131,11 +132,15 @@ int run(int argc, char **argv) {
             routine = bsdfRoutine(*bsdf, wi);
             title = fmt::format("{} at {} deg", bsdf->toString(), angle);
             plugin = bsdf;
+            name = chiSquarePictureName("bsdf-" + bsdf->pluginName(), parameterSetOf(*bsdf),
+                                        fmt::format("{}deg", angle));
         } else if (what == "phase") {
             auto phase = loadAs<PhaseFunction>(positional[1], NoriObject::EPhaseFunction);
             routine = phaseRoutine(*phase, wi);
             title = fmt::format("{} at {} deg", phase->toString(), angle);
             plugin = phase;
+            name = chiSquarePictureName("phase-" + phase->pluginName(), parameterSetOf(*phase),
+                                        fmt::format("{}deg", angle));
         } else {
             auto emitter = loadAs<Emitter>(positional[1], NoriObject::EEmitter);
             if (emitter->isDelta())
@@ -145,15 +150,19 @@ int run(int argc, char **argv) {
             title =
                 fmt::format("{} from ({}, {}, {})", emitter->toString(), ref.x(), ref.y(), ref.z());
             plugin = emitter;
+            name = chiSquarePictureName("emitter-" + emitter->pluginName(),
+                                        parameterSetOf(*emitter),
+                                        fmt::format("ref-{}-{}-{}", ref.x(), ref.y(), ref.z()));
         }
-        name = what;
     } else {
         if (positional.size() != 1)
             throw NoriException("unexpected argument '{}'", positional[1]);
         const NamedWarp &warp = findWarp(what);
         const float p = parameter.value_or(warp.defaultParameter);
         routine = warp.routine(p);
-        name = warp.name;
+        name = chiSquarePictureName(
+            warp.name, warp.parameterName.empty() ? "" : fmt::format("{}={}", warp.parameterName, p),
+            "");
         title = warp.parameterName.empty()
                     ? warp.name
                     : fmt::format("{} ({} = {})", warp.name, warp.parameterName, p);

@@ -102,6 +102,7 @@ std::shared_ptr<NoriObject> NoriObjectFactory::createInstance(const std::string 
         throw NoriException("plugin '{}' is {}, not {}", name, withArticle(it->second.type),
                             withArticle(expectedType));
     std::shared_ptr<NoriObject> object = it->second.constructor(props);
+    object->setPluginName(name);
     if (observerSlot())
         observerSlot()(name, props);
     props.checkAllRead(fmt::format("{} '{}'", NoriObject::classTypeName(expectedType), name));

@@ -17,11 +17,12 @@ std::string parameterSetOf(const NoriObject &plugin) {
 
 std::string chiSquarePictureName(const std::string &plugin, const std::string &parameters,
                                  const std::string &condition) {
-    // Letters, digits and "=.-" are kept; every other run of characters becomes one '-'.
+    // Letters, digits and "=._-" are kept; every other run of characters becomes one '-'.
     auto clean = [](const std::string &text) {
         std::string out;
         for (char c : text) {
-            if (std::isalnum(static_cast<unsigned char>(c)) || c == '=' || c == '.' || c == '-')
+            if (std::isalnum(static_cast<unsigned char>(c)) || c == '=' || c == '.' || c == '-' ||
+                c == '_')
                 out += c;
             else if (!out.empty() && out.back() != '-')
                 out += '-';
