@@ -43,8 +43,7 @@ TEST_CASE("EPFL's convention mirrors x, ETH's does not", "[camera]") {
     // EPFL (Nori 2): camera +x is the image's left, so the left edge looks toward
     // camera +x, which is world −x here.
     CHECK(leftEdgeRayX(*load(cameraScene(""))) < -0.1f);
-    CHECK(leftEdgeRayX(*load(cameraScene(R"(<string name="convention" value="epfl"/>)"))) <
-          -0.1f);
+    CHECK(leftEdgeRayX(*load(cameraScene(R"(<string name="convention" value="epfl"/>)"))) < -0.1f);
     // ETH: the image's left is camera −x = world +x.
     CHECK(leftEdgeRayX(*load(cameraScene(R"(<string name="convention" value="eth"/>)"))) > 0.1f);
     // The two are exact mirrors of each other.
@@ -60,7 +59,8 @@ TEST_CASE("EPFL's convention mirrors x, ETH's does not", "[camera]") {
                Contains("'convention' must be \"epfl\"") && Contains("got 'mit'"));
 }
 
-TEST_CASE("The command line's camera convention applies to cameras that do not choose one", "[camera][cli]") {
+TEST_CASE("The command line's camera convention applies to cameras that do not choose one",
+          "[camera][cli]") {
     LoadOptions ethOptions;
     ethOptions.cameraConvention = "eth";
     CHECK(leftEdgeRayX(*load(cameraScene(""), ethOptions)) > 0.1f);
@@ -80,8 +80,8 @@ TEST_CASE("The command line's camera convention applies to cameras that do not c
     </scene>)");
     auto litColumns = [&](const std::vector<std::string> &extra) {
         std::vector<std::string> arguments = extra;
-        arguments.insert(arguments.end(), {"--no-progress", "-o", (dir.path() / "out").string(),
-                                           scene});
+        arguments.insert(arguments.end(),
+                         {"--no-progress", "-o", (dir.path() / "out").string(), scene});
         auto result = runNori(arguments);
         INFO(result.output);
         REQUIRE(result.exitCode == 0);

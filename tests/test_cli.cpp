@@ -154,7 +154,8 @@ TEST_CASE("Ctrl-C is honoured within a pixel, even at 10^9 samples per pixel", "
     CHECK_THAT(result.output, Contains("Interrupted: wrote the 0 of 1 blocks"));
 }
 
-TEST_CASE("The exposure option brightens the PNG by 2^E and leaves the EXR alone; version", "[cli]") {
+TEST_CASE("The exposure option brightens the PNG by 2^E and leaves the EXR alone; version",
+          "[cli]") {
     TempDir dir;
     dir.write("meshes/floor.obj", kFloor);
     const std::string scene = dir.write("scene.xml", kScene);

@@ -40,7 +40,8 @@ TEST_CASE("Factory rejects a name registered twice", "[factory]") {
                }),
                Contains("'diffuse' is registered twice (as a bsdf and as a test)"));
     // At static-initialisation time the duplicate is remembered instead of thrown.
-    CHECK_FALSE(NoriObjectFactory::registerStatic("recorder", NoriObject::ETest, constructor, __FILE__));
+    CHECK_FALSE(
+        NoriObjectFactory::registerStatic("recorder", NoriObject::ETest, constructor, __FILE__));
     CHECK_THAT(errorOf([] { NoriObjectFactory::checkRegistry(); }),
                Contains("'recorder' is registered twice"));
 }

@@ -158,7 +158,7 @@ TEST_CASE("Image loading errors name the file", "[image]") {
     REQUIRE(bytes.substr(37, 4) == "IDAT");
     bytes[33] = static_cast<char>(0xD5);
     dir.write("corrupt.png", bytes);
-    CHECK_THAT(errorOf([&] { Bitmap::load(png); }),
-               Contains("cannot read image") && Contains("corrupt.png") &&
-                   Contains("without giving a reason"));
+    CHECK_THAT(errorOf([&] { Bitmap::load(png); }), Contains("cannot read image") &&
+                                                        Contains("corrupt.png") &&
+                                                        Contains("without giving a reason"));
 }

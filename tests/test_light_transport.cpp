@@ -51,6 +51,27 @@ struct FloorDir : TempDir {
     std::string folder() const { return path().string(); }
 };
 
+/// Irradiance at the origin (normal +y) from a polygon of radiance Le, by Lambert's
+/// formula E = (Le/2) |Σ θᵢ (n · γᵢ)|.
+double lambertIrradiance(const std::vector<Point3f> &polygon, double radiance) {
+    const Vector3f n(0.0f, 1.0f, 0.0f);
+    double sum = 0.0;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const Vector3f a = Vector3f(polygon[i]).normalized();
+        const Vector3f b = Vector3f(polygon[(i + 1) % polygon.size()]).normalized();
+        const double theta = std::acos(std::clamp(static_cast<double>(a.dot(b)), -1.0, 1.0));
+        sum += theta * n.dot(a.cross(b).normalized());
+    }
+    return 0.5 * radiance * std::abs(sum);
+}
+
+std::string objQuad(const std::vector<Point3f> &quad) {
+    std::string obj;
+    for (const Point3f &p : quad)
+        obj += fmt::format("v {} {} {}\n", p.x(), p.y(), p.z());
+    return obj + "f 1 2 3 4\n";
+}
+
 const std::vector<std::string> kPathIntegrators = {"path_mats", "path_ems", "path_mis"};
 const std::vector<std::string> kDirectIntegrators = {"direct_mats", "direct_ems", "direct_mis",
                                                      "direct", "whitted"};
@@ -180,20 +201,11 @@ TEST_CASE("A polygonal area light over a plane matches Lambert's formula", "[int
     FloorDir dir;
     const std::vector<Point3f> quad = {
         {-0.2f, 1.5f, -0.4f}, {0.8f, 1.5f, -0.4f}, {0.8f, 1.5f, 0.3f}, {-0.2f, 1.5f, 0.3f}};
-    dir.write("light.obj", "v -0.2 1.5 -0.4\nv 0.8 1.5 -0.4\nv 0.8 1.5 0.3\nv -0.2 1.5 0.3\n"
-                           "f 1 2 3 4\n");
+    dir.write("light.obj", objQuad(quad));
     // Lambert (1760): E = (Le/2) Σ θᵢ (n · γᵢ), θᵢ the angle edge i subtends at the point
     // and γᵢ the unit normal of the plane through the point and that edge.
-    const Vector3f n(0.0f, 1.0f, 0.0f);
-    double sum = 0.0;
-    for (size_t i = 0; i < quad.size(); ++i) {
-        const Vector3f a = Vector3f(quad[i]).normalized();
-        const Vector3f b = Vector3f(quad[(i + 1) % quad.size()]).normalized();
-        const double theta = std::acos(std::clamp(static_cast<double>(a.dot(b)), -1.0, 1.0));
-        sum += theta * n.dot(a.cross(b).normalized());
-    }
     const double radiance = 3.0, albedo = 0.6;
-    const double irradiance = 0.5 * radiance * std::abs(sum);
+    const double irradiance = lambertIrradiance(quad, radiance);
     const double reference = albedo / M_PI * irradiance;
     const std::string scene = pinpointCamera("2, 1, 3", "0, 0, 0") + kFloor + R"(
         <mesh type="obj"><string name="filename" value="light.obj"/>
@@ -206,31 +218,6 @@ TEST_CASE("A polygonal area light over a plane matches Lambert's formula", "[int
                         dir.path().string()));
         }
 }
-
-namespace {
-
-/// Irradiance at the origin (normal +y) from a polygon of radiance Le, by Lambert's
-/// formula E = (Le/2) |Σ θᵢ (n · γᵢ)| (see the single-light case above).
-double lambertIrradiance(const std::vector<Point3f> &polygon, double radiance) {
-    const Vector3f n(0.0f, 1.0f, 0.0f);
-    double sum = 0.0;
-    for (size_t i = 0; i < polygon.size(); ++i) {
-        const Vector3f a = Vector3f(polygon[i]).normalized();
-        const Vector3f b = Vector3f(polygon[(i + 1) % polygon.size()]).normalized();
-        const double theta = std::acos(std::clamp(static_cast<double>(a.dot(b)), -1.0, 1.0));
-        sum += theta * n.dot(a.cross(b).normalized());
-    }
-    return 0.5 * radiance * std::abs(sum);
-}
-
-std::string objQuad(const std::vector<Point3f> &quad) {
-    std::string obj;
-    for (const Point3f &p : quad)
-        obj += fmt::format("v {} {} {}\n", p.x(), p.y(), p.z());
-    return obj + "f 1 2 3 4\n";
-}
-
-} // namespace
 
 TEST_CASE("Several lights of very unequal power: Lambert's formula per light, summed",
           "[integrator][ttest]") {
@@ -262,8 +249,8 @@ TEST_CASE("Several lights of very unequal power: Lambert's formula per light, su
     for (const auto *list : {&kPathIntegrators, &kDirectIntegrators})
         for (const std::string &name : *list) {
             INFO(name << ", area lights only: " << areaLights);
-            CHECK(tTest("<integrator type=\"" + name + "\"/>", camera + kFloor + lights,
-                        areaLights, dir.folder(), 100000));
+            CHECK(tTest("<integrator type=\"" + name + "\"/>", camera + kFloor + lights, areaLights,
+                        dir.folder(), 100000));
         }
     for (const char *name : {"direct_ems", "direct_mis", "whitted", "path_ems", "path_mis"}) {
         INFO(name << ", with the point light: " << areaLights + pointLight);
@@ -286,10 +273,8 @@ TEST_CASE("Mirror and glass furnaces: a specular sphere in a uniformly emitting 
             <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
             <emitter type="area"><color name="radiance" value="1"/></emitter></mesh>)";
     const std::string camera = pinpointCamera("0, 0, 3", "0.1, 0.2, 0");
-    const std::string mirror =
-        R"(<mesh type="sphere"><bsdf type="mirror"/></mesh>)";
-    const std::string glass =
-        R"(<mesh type="sphere"><bsdf type="dielectric"/></mesh>)";
+    const std::string mirror = R"(<mesh type="sphere"><bsdf type="mirror"/></mesh>)";
+    const std::string glass = R"(<mesh type="sphere"><bsdf type="dielectric"/></mesh>)";
     // One specular bounce reaches the wall: every integrator follows a mirror.
     for (const auto *list : {&kPathIntegrators, &kDirectIntegrators})
         for (const std::string &name : *list) {

@@ -76,15 +76,15 @@ TEST_CASE("Smith G1 matches its definition by projected area", "[microfacet]") {
                 const double theta = degrees * M_PI / 180.0;
                 const Vector3f wo = direction(std::cos(theta), 0.0);
                 const double reference = smithG1FromDefinition(distribution, theta);
-                INFO((type == Type::GGX ? "GGX" : "Beckmann") << " alpha " << alpha << " at "
-                                                              << degrees << " degrees");
+                INFO((type == Type::GGX ? "GGX" : "Beckmann")
+                     << " alpha " << alpha << " at " << degrees << " degrees");
                 CHECK(distribution.G1(wo, Vector3f(0, 0, 1)) ==
                       Approx(reference).margin(type == Type::GGX ? 1e-4 : 5e-3));
             }
     // Negative control: the G1 of a roughness 20% off is told apart at grazing angles.
     const double theta = 80.0 * M_PI / 180.0;
     const MicrofacetDistribution wrong(Type::GGX, 0.36f);
-    CHECK(wrong.G1(direction(std::cos(theta), 0.0), Vector3f(0, 0, 1)) !=
-          Approx(smithG1FromDefinition(MicrofacetDistribution(Type::GGX, 0.3f), theta))
-              .margin(1e-2));
+    CHECK(
+        wrong.G1(direction(std::cos(theta), 0.0), Vector3f(0, 0, 1)) !=
+        Approx(smithG1FromDefinition(MicrofacetDistribution(Type::GGX, 0.3f), theta)).margin(1e-2));
 }

@@ -59,7 +59,8 @@ TEST_CASE("Doc comments parse into name, summary, parameters and examples", "[do
     CHECK_THAT(errorOf([] { parsePluginDoc("/*\n * phong: no dash\n *\n * No parameters.\n */"); }),
                Contains("must start with 'name — what it models'"));
     CHECK_THAT(errorOf([] {
-                   parsePluginDoc("/*\n * a — b\n *\n * Parameters:\n *   x float 1 one space\n */");
+                   parsePluginDoc(
+                       "/*\n * a — b\n *\n * Parameters:\n *   x float 1 one space\n */");
                }),
                Contains("needs four columns two spaces apart"));
     CHECK_THAT(errorOf([] {

@@ -33,7 +33,7 @@ TEST_CASE("Sphere uv: u = 0.5 + atan2(y, x)/2π, v = 0.5 + asin(z)/π", "[shape]
         auto position = [&](double u, double v) -> Eigen::Vector3d {
             const double phi = 2 * M_PI * (u - 0.5), beta = M_PI * (v - 0.5);
             return Eigen::Vector3d(std::cos(beta) * std::cos(phi), std::cos(beta) * std::sin(phi),
-                            std::sin(beta)) *
+                                   std::sin(beta)) *
                    radius;
         };
         const double h = 1e-4, u = its.uv.x(), v = its.uv.y();

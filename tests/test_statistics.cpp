@@ -61,8 +61,7 @@ TEST_CASE("Distribution functions match published tables", "[statistics]") {
     CHECK(sidakCorrection(0.05, 10) == Approx(0.0051162).epsilon(1e-4));
 }
 
-TEST_CASE("Student's t-test computes Nori 2's statistic with its variance floor",
-          "[statistics]") {
+TEST_CASE("Student's t-test computes Nori 2's statistic with its variance floor", "[statistics]") {
     // t = |mean − ref|·√(n / max(variance, 1e-5)).
     const StudentTResult noisy = studentTTest(0.51, 0.04, 400, 0.5, 0.01);
     CHECK(noisy.t == Approx(0.01 * std::sqrt(400 / 0.04)));

@@ -29,7 +29,7 @@ struct PluginTestOptions {
 struct PluginTestResult {
     bool tested = false; ///< false: not a sampling plugin, or exempt
     bool passed = true;
-    std::string report;  ///< a line per check, for people
+    std::string report; ///< a line per check, for people
 };
 
 /// The registered BSDFs, phase functions and emitters, by name.

@@ -65,8 +65,8 @@ public:
         return fmt::format("PerspectiveCamera[size={}x{}, fov={}, nearClip={}, farClip={}, "
                            "convention={}, rfilter={}, toWorld=\n{}]",
                            m_outputSize.x(), m_outputSize.y(), m_fov, m_nearClip, m_farClip,
-                           conventionName(m_convention),
-                           m_rfilter ? m_rfilter->toString() : "none", m_cameraToWorld.toString());
+                           conventionName(m_convention), m_rfilter ? m_rfilter->toString() : "none",
+                           m_cameraToWorld.toString());
     }
 
 private:

@@ -82,11 +82,11 @@ public:
         its.uv = Point2f(0.5f + phi * kInvTwoPi, 0.5f + std::asin(sinBeta) * kInvPi);
 
         // p = c + r (cos β cos φ, cos β sin φ, sin β), with φ = 2π(u − ½), β = π(v − ½):
-        // ∂p/∂u = 2π r (−cos β sin φ, cos β cos φ, 0); ∂p/∂v = π r (−sin β cos φ, −sin β sin φ, cos β).
+        // ∂p/∂u = 2π r (−cos β sin φ, cos β cos φ, 0); ∂p/∂v = π r (−sin β cos φ, −sin β sin φ, cos
+        // β).
         const float sinPhi = std::sin(phi), cosPhi = std::cos(phi);
         its.dpdu = 2.0f * kPi * m_radius * Vector3f(-cosBeta * sinPhi, cosBeta * cosPhi, 0.0f);
-        its.dpdv =
-            kPi * m_radius * Vector3f(-sinBeta * cosPhi, -sinBeta * sinPhi, cosBeta);
+        its.dpdv = kPi * m_radius * Vector3f(-sinBeta * cosPhi, -sinBeta * sinPhi, cosBeta);
 
         // Tangent along ∂p/∂u where it exists (not at the poles).
         const Vector3f normal = side * n;

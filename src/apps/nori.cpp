@@ -1,9 +1,9 @@
 // The `nori` program: renders a scene file to EXR + PNG, or runs a test file.
-#include <nori/program.h>
 #include <nori/filesystem.h>
 #include <nori/parser.h>
 #include <nori/plugindoc.h>
 #include <nori/plugintest.h>
+#include <nori/program.h>
 #include <nori/progress.h>
 #include <nori/render.h>
 #include <nori/scene.h>
@@ -83,7 +83,7 @@ struct Options {
     float exposure = 0.0f;
     bool version = false;
     bool listPlugins = false;
-    std::string listWhat;        ///< the KIND or NAME after --list-plugins
+    std::string listWhat; ///< the KIND or NAME after --list-plugins
     std::string markdownFile;
     std::vector<std::string> pluginsToTest;
     bool testAllPlugins = false;
@@ -112,8 +112,7 @@ Options parseCommandLine(int argc, char **argv) {
             options.help = true;
         } else if (arg == "--list-plugins") {
             options.listPlugins = true;
-            if (i + 1 < argc && argv[i + 1][0] != '-' &&
-                !endsWith(toLower(argv[i + 1]), ".xml"))
+            if (i + 1 < argc && argv[i + 1][0] != '-' && !endsWith(toLower(argv[i + 1]), ".xml"))
                 options.listWhat = argv[++i];
         } else if (arg == "--test-plugin") {
             options.pluginsToTest.push_back(value(arg));

@@ -4,10 +4,10 @@
 //
 //   nori-bench --make-mesh 1000000 sphere.obj
 //   nori-bench sphere.obj [--rays N] [--threads T]
-#include <nori/program.h>
 #include <nori/accel.h>
 #include <nori/mesh.h>
 #include <nori/pcg32.h>
+#include <nori/program.h>
 #include <nori/strutil.h>
 
 #include <tbb/blocked_range.h>

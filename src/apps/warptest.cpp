@@ -1,11 +1,11 @@
 // warptest: the χ² test of one sampling routine from the command line, with a picture of
 // the observed and expected histograms and their difference, so a student can see where
 // a sampler goes wrong.
-#include <nori/program.h>
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/parser.h>
 #include <nori/phase.h>
+#include <nori/program.h>
 #include <nori/samplingroutines.h>
 #include <nori/strutil.h>
 
@@ -150,9 +150,9 @@ int run(int argc, char **argv) {
             title =
                 fmt::format("{} from ({}, {}, {})", emitter->toString(), ref.x(), ref.y(), ref.z());
             plugin = emitter;
-            name = chiSquarePictureName("emitter-" + emitter->pluginName(),
-                                        parameterSetOf(*emitter),
-                                        fmt::format("ref-{}-{}-{}", ref.x(), ref.y(), ref.z()));
+            name =
+                chiSquarePictureName("emitter-" + emitter->pluginName(), parameterSetOf(*emitter),
+                                     fmt::format("ref-{}-{}-{}", ref.x(), ref.y(), ref.z()));
         }
     } else {
         if (positional.size() != 1)
@@ -161,8 +161,8 @@ int run(int argc, char **argv) {
         const float p = parameter.value_or(warp.defaultParameter);
         routine = warp.routine(p);
         name = chiSquarePictureName(
-            warp.name, warp.parameterName.empty() ? "" : fmt::format("{}={}", warp.parameterName, p),
-            "");
+            warp.name,
+            warp.parameterName.empty() ? "" : fmt::format("{}={}", warp.parameterName, p), "");
         title = warp.parameterName.empty()
                     ? warp.name
                     : fmt::format("{} ({} = {})", warp.name, warp.parameterName, p);

@@ -9,7 +9,7 @@ namespace nori {
 
 namespace {
 
-const std::vector<std::string> kParameterTypes = {"boolean", "integer", "float", "string",
+const std::vector<std::string> kParameterTypes = {"boolean", "integer", "float",  "string",
                                                   "color",   "point",   "vector", "transform"};
 
 std::map<std::string, std::string> &docComments() {
@@ -120,7 +120,8 @@ std::string exampleOf(const std::vector<std::string> &paragraph) {
 /// letter, or the end.
 std::string firstSentence(const std::string &text) {
     for (size_t i = 0; i + 2 < text.size(); ++i)
-        if (text[i] == '.' && text[i + 1] == ' ' && std::isupper(static_cast<unsigned char>(text[i + 2])))
+        if (text[i] == '.' && text[i + 1] == ' ' &&
+            std::isupper(static_cast<unsigned char>(text[i + 2])))
             return text.substr(0, i + 1);
     return text;
 }
@@ -174,7 +175,8 @@ PluginDoc parsePluginDoc(const std::string &comment) {
             std::string reason;
             for (const std::string &line : paragraph)
                 reason += (reason.empty() ? "" : " ") + trim(line);
-            doc.exemption = trim(reason.substr(std::string("Exempt from the sampling test:").size()));
+            doc.exemption =
+                trim(reason.substr(std::string("Exempt from the sampling test:").size()));
             inParameters = false;
         } else if (head[0] == '<') {
             doc.examples.push_back(exampleOf(paragraph));
@@ -227,16 +229,16 @@ std::string shortSourcePath(const std::string &sourceFile) {
 std::string pluginList(const std::string &kind) {
     const auto classes = NoriObjectFactory::registeredClasses();
     if (!kind.empty() && NoriObject::classTypeFromName(kind) == NoriObject::EClassTypeCount)
-        throw NoriException("'{}' is neither a kind of plugin nor a plugin{}", kind,
-                            didYouMean(kind, [&] {
-                                std::vector<std::string> names;
-                                for (const auto &[type, name] : classes)
-                                    names.push_back(name);
-                                for (int t = 0; t < NoriObject::EClassTypeCount; ++t)
-                                    names.push_back(NoriObject::classTypeName(
-                                        static_cast<NoriObject::EClassType>(t)));
-                                return names;
-                            }()));
+        throw NoriException(
+            "'{}' is neither a kind of plugin nor a plugin{}", kind, didYouMean(kind, [&] {
+                std::vector<std::string> names;
+                for (const auto &[type, name] : classes)
+                    names.push_back(name);
+                for (int t = 0; t < NoriObject::EClassTypeCount; ++t)
+                    names.push_back(
+                        NoriObject::classTypeName(static_cast<NoriObject::EClassType>(t)));
+                return names;
+            }()));
     std::string out;
     NoriObject::EClassType current = NoriObject::EClassTypeCount;
     for (const auto &[type, name] : classes) {

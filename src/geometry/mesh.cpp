@@ -80,8 +80,8 @@ Vector3f Mesh::interpolatedNormal(uint32_t index, float b1, float b2) const {
     if (m_normals.empty())
         return Vector3f::Zero();
     const Vector3i &face = m_faces[index];
-    const Vector3f n = (1.0f - b1 - b2) * m_normals[face[0]] + b1 * m_normals[face[1]] +
-                       b2 * m_normals[face[2]];
+    const Vector3f n =
+        (1.0f - b1 - b2) * m_normals[face[0]] + b1 * m_normals[face[1]] + b2 * m_normals[face[2]];
     const float length = n.norm();
     return length > 0.0f ? Vector3f(n / length) : Vector3f::Zero();
 }

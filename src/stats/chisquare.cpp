@@ -126,10 +126,10 @@ ChiSquareReport runChiSquareTest(const SamplingRoutine &routine, const ChiSquare
             continue;
         }
         // Points exactly on the far edge belong to the last bin.
-        const int cx = std::min(static_cast<int>(std::floor((x - map.x0) / binWidth)),
-                                report.xBins - 1);
-        const int cy = std::min(static_cast<int>(std::floor((y - map.y0) / binHeight)),
-                                report.yBins - 1);
+        const int cx =
+            std::min(static_cast<int>(std::floor((x - map.x0) / binWidth)), report.xBins - 1);
+        const int cy =
+            std::min(static_cast<int>(std::floor((y - map.y0) / binHeight)), report.yBins - 1);
         const size_t bin = static_cast<size_t>(cy) * report.xBins + cx;
         if (report.observed[bin] == 0.0)
             firstSample[bin] = point;
@@ -141,7 +141,8 @@ ChiSquareReport runChiSquareTest(const SamplingRoutine &routine, const ChiSquare
         for (int bx = 0; bx < report.xBins; ++bx) {
             const size_t bin = static_cast<size_t>(by) * report.xBins + bx;
             double integral = integrateBin(bx, by, kSubdivisions);
-            if (integral == 0.0 && report.observed[bin] > 0.0 && routine.pdf(firstSample[bin]) > 0.0)
+            if (integral == 0.0 && report.observed[bin] > 0.0 &&
+                routine.pdf(firstSample[bin]) > 0.0)
                 integral = integrateBin(bx, by, kFineSubdivisions);
             report.pdfIntegral += integral;
             report.expected[bin] = integral * static_cast<double>(report.sampleCount);

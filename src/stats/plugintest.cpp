@@ -84,6 +84,26 @@ struct Case {
     }
 };
 
+/// The checks every sample gets: a finite, non-negative weight and, where the weight is
+/// not zero, a finite unit direction. False when the sample carries nothing to check
+/// further (a failed sample, or a problem now recorded in c).
+bool usableSample(const Color3f &weight, const Vector3f &direction, const char *name, Case &c) {
+    if (!isValidWeight(weight)) {
+        c.fail(fmt::format("sample() returned the weight {} (NaN, infinite or negative)",
+                           format(weight)));
+        return false;
+    }
+    if ((weight == 0.0f).all())
+        return false;
+    if (!isUnitDirection(direction)) {
+        c.fail(fmt::format("sample() returned {} = {} with a non-zero weight: not a finite unit "
+                           "vector",
+                           name, format(direction)));
+        return false;
+    }
+    return true;
+}
+
 /// The object of the plugin under test in a loaded example: the example itself, or the
 /// BSDF or emitter of a <mesh> example.
 std::shared_ptr<NoriObject> subjectOf(const std::shared_ptr<NoriObject> &root,
@@ -111,18 +131,10 @@ void checkBSDFValues(const BSDF &bsdf, const Vector3f &wi, PCG32 &random, Case &
         BSDFQueryRecord bRec(wi);
         const float u = random.nextFloat();
         const Color3f weight = bsdf.sample(bRec, Point2f(u, random.nextFloat()));
-        if (!isValidWeight(weight))
-            return c.fail(fmt::format("sample() returned the weight {} (NaN, infinite or negative)",
-                                      format(weight)));
-        if ((weight == 0.0f).all())
+        if (!usableSample(weight, bRec.wo, "wo", c))
             continue;
-        if (!isUnitDirection(bRec.wo))
-            return c.fail(fmt::format("sample() returned wo = {} with a non-zero weight: not a "
-                                      "finite unit vector",
-                                      format(bRec.wo)));
         const bool refracted = Frame::cosTheta(bRec.wo) * Frame::cosTheta(wi) < 0.0f;
-        const double albedo =
-            weight.getLuminance() * (refracted ? bRec.eta * bRec.eta : 1.0f);
+        const double albedo = weight.getLuminance() * (refracted ? bRec.eta * bRec.eta : 1.0f);
         energy += albedo;
         energy2 += albedo * albedo;
 
@@ -134,16 +146,15 @@ void checkBSDFValues(const BSDF &bsdf, const Vector3f &wi, PCG32 &random, Case &
                 const float cosI = Frame::cosTheta(wi);
                 const float sin2T = Frame::sinTheta2(wi) / (bRec.eta * bRec.eta);
                 const float cosT = std::sqrt(std::max(0.0f, 1.0f - sin2T));
-                expected = Vector3f(-wi.x() / bRec.eta, -wi.y() / bRec.eta,
-                                    cosI > 0.0f ? -cosT : cosT);
+                expected =
+                    Vector3f(-wi.x() / bRec.eta, -wi.y() / bRec.eta, cosI > 0.0f ? -cosT : cosT);
             }
             if ((bRec.wo - expected).norm() > 1e-3f)
-                return c.fail(fmt::format("a discrete sample went to wo = {}, but {} gives {}",
-                                          format(bRec.wo),
-                                          refracted ? fmt::format("Snell's law with eta = {}",
-                                                                  bRec.eta)
-                                                    : std::string("mirror reflection"),
-                                          format(expected)));
+                return c.fail(fmt::format(
+                    "a discrete sample went to wo = {}, but {} gives {}", format(bRec.wo),
+                    refracted ? fmt::format("Snell's law with eta = {}", bRec.eta)
+                              : std::string("mirror reflection"),
+                    format(expected)));
             if (!(bsdf.eval(bRec) == 0.0f).all() || bsdf.pdf(bRec) != 0.0f)
                 return c.fail("eval() or pdf() is not 0 for a discrete sample: a delta lobe has "
                               "no value or density at any one direction");
@@ -154,8 +165,8 @@ void checkBSDFValues(const BSDF &bsdf, const Vector3f &wi, PCG32 &random, Case &
         const float density = bsdf.pdf(bRec);
         const Color3f f = bsdf.eval(bRec);
         if (!(density > 0.0f))
-            return c.fail(fmt::format("pdf() is {} at wo = {}, a direction sample() chose",
-                                      density, format(bRec.wo)));
+            return c.fail(fmt::format("pdf() is {} at wo = {}, a direction sample() chose", density,
+                                      format(bRec.wo)));
         const Color3f expectedWeight = f * (std::abs(Frame::cosTheta(bRec.wo)) / density);
         if (!closeColor(weight, expectedWeight))
             return c.fail(fmt::format("sample() returned the weight {} at wo = {}, but "
@@ -167,18 +178,18 @@ void checkBSDFValues(const BSDF &bsdf, const Vector3f &wi, PCG32 &random, Case &
         const float eta2 = refracted ? bRec.eta * bRec.eta : 1.0f;
         const Color3f expectedReverse = f * eta2;
         if (!closeColor(fReverse, expectedReverse, 4.0f * eta2 * sensitivity(bsdf, wi, bRec.wo)))
-            return c.fail(fmt::format("not reciprocal: f(wi, wo) = {} but f(wo, wi) = {} for wo "
-                                      "= {}{}",
-                                      format(f), format(fReverse), format(bRec.wo),
-                                      refracted ? fmt::format(" (expected η² f(wi, wo) = {})",
-                                                              format(expectedReverse))
-                                                : std::string()));
+            return c.fail(fmt::format(
+                "not reciprocal: f(wi, wo) = {} but f(wo, wi) = {} for wo "
+                "= {}{}",
+                format(f), format(fReverse), format(bRec.wo),
+                refracted ? fmt::format(" (expected η² f(wi, wo) = {})", format(expectedReverse))
+                          : std::string()));
     }
     if (!c.problem.empty())
         return;
     const double mean = energy / kValueSamples;
-    const double error = std::sqrt(std::max(0.0, energy2 / kValueSamples - mean * mean) /
-                                   kValueSamples);
+    const double error =
+        std::sqrt(std::max(0.0, energy2 / kValueSamples - mean * mean) / kValueSamples);
     if (mean > 1.0 + 4.0 * error + 1e-3)
         c.fail(fmt::format("the albedo is {:.4f} ± {:.4f}: more energy leaves than arrives", mean,
                            error));
@@ -189,13 +200,8 @@ void checkPhaseValues(const PhaseFunction &phase, const Vector3f &wi, PCG32 &ran
         PhaseFunctionQueryRecord pRec(wi);
         const float u = random.nextFloat();
         const Color3f weight = phase.sample(pRec, Point2f(u, random.nextFloat()));
-        if (!isValidWeight(weight))
-            return c.fail(fmt::format("sample() returned the weight {}", format(weight)));
-        if ((weight == 0.0f).all())
+        if (!usableSample(weight, pRec.wo, "wo", c))
             continue;
-        if (!isUnitDirection(pRec.wo))
-            return c.fail(fmt::format("sample() returned wo = {}: not a unit vector",
-                                      format(pRec.wo)));
         const float density = phase.pdf(pRec);
         if (!(density > 0.0f))
             return c.fail(fmt::format("pdf() is {} at a direction sample() chose", density));
@@ -217,13 +223,8 @@ void checkEmitterValues(const Emitter &emitter, const Point3f &ref, PCG32 &rando
         EmitterQueryRecord lRec(ref);
         const float u = random.nextFloat();
         const Color3f weight = emitter.sample(lRec, Point2f(u, random.nextFloat()));
-        if (!isValidWeight(weight))
-            return c.fail(fmt::format("sample() returned the weight {}", format(weight)));
-        if ((weight == 0.0f).all())
+        if (!usableSample(weight, lRec.wi, "wi", c))
             continue;
-        if (!isUnitDirection(lRec.wi))
-            return c.fail(fmt::format("sample() returned wi = {}: not a unit vector",
-                                      format(lRec.wi)));
         if (emitter.isDelta()) {
             // A delta light has one direction and one weight from each point.
             if ((firstWeight == 0.0f).all()) {
@@ -338,8 +339,8 @@ PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOpt
     const bool isBSDF = entry.type == NoriObject::EBSDF;
     const int casesPerExample = isBSDF ? 2 * static_cast<int>(std::size(kAngles)) : 4;
     ChiSquareOptions chi2;
-    chi2.significanceLevel = sidakCorrection(
-        options.significanceLevel, casesPerExample * static_cast<int>(subjects.size()));
+    chi2.significanceLevel = sidakCorrection(options.significanceLevel,
+                                             casesPerExample * static_cast<int>(subjects.size()));
 
     PCG32 random(options.seed, 0x5A3D);
     for (size_t e = 0; e < subjects.size(); ++e) {
@@ -388,9 +389,9 @@ PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOpt
                           fmt::format("{} {}", subject.toString(), c.condition), c, verdict);
             }
             result.passed &= c.problem.empty();
-            result.report += fmt::format("    {}: {}\n", c.description,
-                                         c.problem.empty() ? "pass; " + verdict
-                                                           : "FAIL: " + c.problem);
+            result.report +=
+                fmt::format("    {}: {}\n", c.description,
+                            c.problem.empty() ? "pass; " + verdict : "FAIL: " + c.problem);
         }
     }
     result.report += fmt::format("  verdict: {}\n", result.passed ? "pass" : "FAIL");
@@ -400,9 +401,8 @@ PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOpt
 std::vector<PluginTestResult> testSamplingPlugins(const std::vector<std::string> &names,
                                                   const PluginTestOptions &options) {
     std::vector<PluginTestResult> results(names.size());
-    tbb::parallel_for(size_t(0), names.size(), [&](size_t i) {
-        results[i] = testSamplingPlugin(names[i], options);
-    });
+    tbb::parallel_for(size_t(0), names.size(),
+                      [&](size_t i) { results[i] = testSamplingPlugin(names[i], options); });
     return results;
 }
 

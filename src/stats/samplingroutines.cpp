@@ -164,10 +164,10 @@ SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref) {
     // light then sits on the histogram's equator, where cells are regular, never at a
     // pole, where they are thin wedges that the quadrature of a disk's edge gets wrong.
     const Shape *shape = emitter.getShape();
-    const Vector3f toCenter = shape ? Vector3f(shape->getBoundingBox().getCenter() - ref)
-                                    : Vector3f(0.0f, 0.0f, 0.0f);
-    const Vector3f axis = toCenter.norm() > 0.0f ? Vector3f(toCenter.normalized())
-                                                 : Vector3f(1.0f, 0.0f, 0.0f);
+    const Vector3f toCenter =
+        shape ? Vector3f(shape->getBoundingBox().getCenter() - ref) : Vector3f(0.0f, 0.0f, 0.0f);
+    const Vector3f axis =
+        toCenter.norm() > 0.0f ? Vector3f(toCenter.normalized()) : Vector3f(1.0f, 0.0f, 0.0f);
     const Frame around(axis); // n = axis; its tangents complete the basis
     const Frame frame(axis, around.s, Normal3f(around.t));
     SamplingRoutine routine;
