@@ -228,17 +228,17 @@ std::string shortSourcePath(const std::string &sourceFile) {
 
 std::string pluginList(const std::string &kind) {
     const auto classes = NoriObjectFactory::registeredClasses();
-    if (!kind.empty() && NoriObject::classTypeFromName(kind) == NoriObject::EClassTypeCount)
-        throw NoriException(
-            "'{}' is neither a kind of plugin nor a plugin{}", kind, didYouMean(kind, [&] {
-                std::vector<std::string> names;
-                for (const auto &[type, name] : classes)
-                    names.push_back(name);
-                for (int t = 0; t < NoriObject::EClassTypeCount; ++t)
-                    names.push_back(
-                        NoriObject::classTypeName(static_cast<NoriObject::EClassType>(t)));
-                return names;
-            }()));
+    if (!kind.empty() && NoriObject::classTypeFromName(kind) == NoriObject::EClassTypeCount) {
+        // Suggest a plugin or a kind.
+        std::vector<std::string> names;
+        names.reserve(classes.size() + NoriObject::EClassTypeCount);
+        for (const auto &[type, name] : classes)
+            names.push_back(name);
+        for (int t = 0; t < NoriObject::EClassTypeCount; ++t)
+            names.push_back(NoriObject::classTypeName(static_cast<NoriObject::EClassType>(t)));
+        throw NoriException("'{}' is neither a kind of plugin nor a plugin{}", kind,
+                            didYouMean(kind, names));
+    }
     std::string out;
     NoriObject::EClassType current = NoriObject::EClassTypeCount;
     for (const auto &[type, name] : classes) {
