@@ -5,14 +5,17 @@ find_package(pugixml REQUIRED)
 find_package(TBB REQUIRED)
 find_package(fmt REQUIRED)
 find_package(tinyexr REQUIRED)
-find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)
+find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
+# Image decoding: libpng and libjpeg-turbo rather than stb_image (see src/core/imagefile.cpp).
+find_package(PNG REQUIRED)
+find_package(JPEG REQUIRED)
 find_package(Threads REQUIRED)
 
-# stb's implementation is compiled once, here, with our own flags.
+# stb's image writer is compiled once, here, with our own flags.
 add_library(nori_stb STATIC ${CMAKE_CURRENT_LIST_DIR}/stb_impl.cpp)
 target_include_directories(nori_stb SYSTEM PUBLIC ${STB_INCLUDE_DIR})
 target_compile_options(nori_stb PRIVATE -w)
 
 add_library(nori_ext INTERFACE)
 target_link_libraries(nori_ext INTERFACE Eigen3::Eigen pugixml::pugixml TBB::tbb fmt::fmt
-                      tinyexr::tinyexr nori_stb Threads::Threads)
+                      tinyexr::tinyexr nori_stb PNG::PNG JPEG::JPEG Threads::Threads)

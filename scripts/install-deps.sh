@@ -9,7 +9,9 @@ packages=(
     build-essential cmake   # compiler and build system
     libeigen3-dev           # vectors, matrices, colours
     libpugixml-dev          # XML scene files
-    libstb-dev              # PNG/JPEG/HDR reading, PNG writing
+    libstb-dev              # PNG writing
+    libpng-dev              # PNG reading (textures)
+    libjpeg62-turbo-dev     # JPEG reading (textures)
     libtinyexr-dev          # EXR reading and writing
     libtbb-dev              # parallel render loop
     libfmt-dev              # message formatting

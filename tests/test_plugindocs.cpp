@@ -122,7 +122,7 @@ TEST_CASE("nori --list-plugins filters by kind and prints one plugin's doc", "[d
     auto diffuse = runNori({"--list-plugins", "diffuse"});
     CHECK(diffuse.exitCode == 0);
     CHECK_THAT(diffuse.output, Contains("diffuse (bsdf, plugins/bsdfs/diffuse.cpp)") &&
-                                   Contains("albedo  color  0.5") &&
+                                   Contains("albedo  color/texture  0.5") &&
                                    Contains("<bsdf type=\"diffuse\">"));
     auto typo = runNori({"--list-plugins", "difuse"});
     CHECK(typo.exitCode == 1);

@@ -20,8 +20,9 @@ public:
     int width() const { return static_cast<int>(cols()); }
     int height() const { return static_cast<int>(rows()); }
 
-    /// Loads an EXR, PNG, JPEG or HDR file (by extension). 8-bit formats are taken as
-    /// sRGB and converted to linear. Throws NoriException naming the file on failure.
+    /// Loads an EXR, PNG, JPEG or HDR file (recognised by its content; see imagefile.h).
+    /// 8- and 16-bit formats are taken as sRGB and converted to linear. Throws
+    /// NoriException naming the file on failure.
     static Bitmap load(const std::string &filename);
     /// Writes all channels as 32-bit float linear RGB.
     void saveEXR(const std::string &filename) const;

@@ -4,6 +4,7 @@
 
 #include <nori/color.h>
 #include <nori/object.h>
+#include <nori/texture.h>
 #include <nori/vector.h>
 
 namespace nori {
@@ -11,17 +12,22 @@ namespace nori {
 /// The measure a density is expressed in.
 enum EMeasure { EUnknownMeasure = 0, ESolidAngle, EDiscrete };
 
-struct BSDFQueryRecord {
+/// A BSDF query. It is also the TextureQuery of its point (uv, p and the footprint), so
+/// textured parameters are looked up with the record itself: m_albedo->eval(bRec).
+struct BSDFQueryRecord : TextureQuery {
     Vector3f wi;                        ///< incident direction (toward the light / camera)
     Vector3f wo;                        ///< outgoing direction, set by sample()
     float eta = 1.0f;                   ///< relative index of refraction of the sampled event
     EMeasure measure = EUnknownMeasure; ///< measure of the sampled or queried density
-    Point2f uv;                         ///< surface uv, for textured parameters
-    Point3f p;                          ///< world-space position, for 3D textures
 
     explicit BSDFQueryRecord(const Vector3f &wi) : wi(wi) {}
     BSDFQueryRecord(const Vector3f &wi, const Vector3f &wo, EMeasure measure)
         : wi(wi), wo(wo), measure(measure) {}
+    /// A query at a ray hit: the texture lookups use its uv and footprint.
+    BSDFQueryRecord(const Intersection &its, const Vector3f &wi) : TextureQuery(its), wi(wi) {}
+    BSDFQueryRecord(const Intersection &its, const Vector3f &wi, const Vector3f &wo,
+                    EMeasure measure)
+        : TextureQuery(its), wi(wi), wo(wo), measure(measure) {}
 };
 
 class BSDF : public NoriObject {
@@ -37,9 +43,15 @@ public:
     /// Whether the BSDF is (mostly) diffuse, so that light sampling pays off.
     virtual bool isDiffuse() const { return false; }
 
+    /// The textures behind the BSDF's colour and float parameters.
+    const TextureParameters &textures() const { return m_textures; }
+
     EClassType getClassType() const override { return kClassType; }
 
 protected:
+    /// Read every colour and float parameter through this: m_textures.color(props, ...).
+    TextureParameters m_textures;
+
     /// eval·|cos θo|/pdf for the direction a sample() just chose, or 0 where the density
     /// vanishes: the weight of every BSDF that samples a mixture or a microfacet normal.
     Color3f sampleWeight(const BSDFQueryRecord &bRec) const {

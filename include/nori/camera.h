@@ -22,6 +22,12 @@ public:
     virtual Color3f sampleRay(Ray3f &ray, const Point2f &samplePosition,
                               const Point2f &apertureSample) const = 0;
 
+    /// sampleRay with ray differentials: the rays through the film positions one pixel
+    /// to the right and one pixel down, with the same aperture sample (Igehy 1999; pbrt-v3
+    /// §6.1). Any camera gets them this way; one with a cheaper closed form may override.
+    virtual Color3f sampleRayDifferential(Ray3f &ray, const Point2f &samplePosition,
+                                          const Point2f &apertureSample) const;
+
     const Vector2i &getOutputSize() const { return m_outputSize; }
     const ReconstructionFilter *getReconstructionFilter() const { return m_rfilter.get(); }
 

@@ -5,23 +5,33 @@
 #include <nori/color.h>
 #include <nori/object.h>
 #include <nori/ray.h>
+#include <nori/shape.h>
+#include <nori/texture.h>
 
 namespace nori {
 
 class Shape;
 
-struct EmitterQueryRecord {
+/// An emitter query. It is also the TextureQuery of the emitter's point (p, uv and the
+/// footprint), so a textured radiance is looked up with the record itself.
+struct EmitterQueryRecord : TextureQuery {
     Point3f ref;      ///< the point being lit
-    Point3f p;        ///< sampled (or queried) point on the emitter
     Normal3f n;       ///< surface normal at p (area lights)
     Vector3f wi;      ///< unit direction from ref toward p
     float pdf = 0.0f; ///< solid-angle density of wi at ref (for delta lights: 1)
     Ray3f shadowRay;  ///< from ref to p, for the visibility test
+    // Inherited from TextureQuery: p, the sampled (or queried) point on the emitter, and
+    // its uv and footprint.
 
     EmitterQueryRecord() = default;
     explicit EmitterQueryRecord(const Point3f &ref) : ref(ref) {}
     EmitterQueryRecord(const Point3f &ref, const Point3f &p, const Normal3f &n)
-        : ref(ref), p(p), n(n), wi((p - ref).normalized()) {}
+        : ref(ref), n(n), wi((p - ref).normalized()) {
+        this->p = p;
+    }
+    /// The light leaving a ray hit toward ref: p, n (geometric), uv and footprint.
+    EmitterQueryRecord(const Point3f &ref, const Intersection &its)
+        : TextureQuery(its), ref(ref), n(its.geoFrame.n), wi((its.p - ref).normalized()) {}
 };
 
 class Emitter : public NoriObject {
@@ -48,10 +58,15 @@ public:
     const Shape *getShape() const { return m_shape; }
     void setShape(const Shape *shape) { m_shape = shape; }
 
+    /// The textures behind the emitter's colour and float parameters.
+    const TextureParameters &textures() const { return m_textures; }
+
     EClassType getClassType() const override { return kClassType; }
 
 protected:
     const Shape *m_shape = nullptr;
+    /// Read every colour and float parameter through this (see BSDF::m_textures).
+    TextureParameters m_textures;
 };
 
 } // namespace nori

@@ -16,6 +16,9 @@ void requireRegularFile(const std::string &path, const std::string &what);
 /// `path` unchanged; never throws.
 std::string canonicalPathOrSame(const std::string &path);
 
+/// Reads a whole regular file's bytes (checked as requireRegularFile does); throws
+/// NoriException naming `what` and `path` when it cannot.
+std::string readBinaryFile(const std::string &path, const std::string &what);
 /// Reads a whole regular file (checked as requireRegularFile does). Throws NoriException
 /// on a read error, and when the file holds a NUL byte: `what` is a text format, and a
 /// binary file (an image, an EXR passed by mistake) is not one.

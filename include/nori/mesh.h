@@ -49,12 +49,15 @@ protected:
     /// the bounding box. Normals and texture coordinates are optional (empty) but, when
     /// present, one per vertex.
     void finishLoading(const Transform &toWorld);
+    /// Per-vertex tangents from the uvs (empty without uvs).
+    void computeTangents();
 
     std::string m_name;               ///< e.g. the file name, for messages
     std::vector<Point3f> m_positions; ///< vertex positions
     std::vector<Normal3f> m_normals;  ///< per-vertex normals, or empty
     std::vector<Point2f> m_texCoords; ///< per-vertex uvs, or empty
     std::vector<Vector3i> m_faces;    ///< vertex indices of each triangle
+    std::vector<Vector3f> m_tangents; ///< per-vertex tangents (along dp/du) when there are uvs
     DiscretePDF m_triangleAreas;      ///< for sampling a triangle by area
 };
 

@@ -27,7 +27,8 @@ namespace nori {
 
 struct ParameterDoc {
     std::vector<std::string> names; ///< usually one; "eta, k" gives two
-    std::string type;               ///< boolean integer float string color point vector transform
+    std::string type;               ///< boolean integer float string color point vector
+                                    ///< transform texture color/texture float/texture
     std::string defaultValue;       ///< "(required)", "—" (none) or a value
     std::string meaning;
 };

@@ -7,16 +7,22 @@
 #include <nori/transform.h>
 
 #include <map>
+#include <memory>
 #include <set>
 #include <variant>
 #include <vector>
 
 namespace nori {
 
+class NoriObject;
+
 class PropertyList {
 public:
+    /// The last alternative is a named child object bound to a parameter, such as
+    /// <texture name="albedo">: the parser stores it here so that the plugin reads it like
+    /// any other property (and a misspelled name is reported like any other).
     using Value = std::variant<bool, int, float, std::string, Color3f, Point3f, Point2f, Vector3f,
-                               Vector2f, Transform>;
+                               Vector2f, Transform, std::shared_ptr<NoriObject>>;
 
     /// Adds a property; `location` ("file:line:col") is used in error messages and
     /// `directory` is the folder of the XML file it came from (see getPath).
@@ -44,6 +50,7 @@ public:
     float getFloat(const std::string &name, float defaultValue) const;
     std::string getString(const std::string &name) const;
     std::string getString(const std::string &name, const std::string &defaultValue) const;
+    /// Accepts a <float> or <integer> too, as a grey.
     Color3f getColor(const std::string &name) const;
     Color3f getColor(const std::string &name, const Color3f &defaultValue) const;
     Point3f getPoint(const std::string &name) const;
@@ -56,6 +63,13 @@ public:
     Vector2f getVector2(const std::string &name, const Vector2f &defaultValue) const;
     Transform getTransform(const std::string &name) const;
     Transform getTransform(const std::string &name, const Transform &defaultValue) const;
+    /// The object bound to `name` (see Value), or nullptr when there is none.
+    std::shared_ptr<NoriObject> getObject(const std::string &name) const;
+    /// Whether `name` holds an object (without marking it read).
+    bool holdsObject(const std::string &name) const;
+    /// Whether `name` holds a <float> or an <integer> (without marking it read).
+    bool holdsScalar(const std::string &name) const;
+
     /// A string property naming a file: a relative path is resolved against the folder
     /// of the XML file that set it (never the working directory).
     std::string getPath(const std::string &name) const;

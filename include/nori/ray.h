@@ -12,6 +12,13 @@ struct Ray3f {
     float mint = kEpsilon;
     float maxt = kInfinity;
 
+    /// Ray differentials (Igehy 1999; pbrt-v3 §2.5.1): the rays through the neighbouring
+    /// pixels in x and y, carried through specular bounces. They size the texture
+    /// footprint at a hit; shadow rays and test rays go without.
+    bool hasDifferentials = false;
+    Point3f rxOrigin, ryOrigin;
+    Vector3f rxDirection, ryDirection;
+
     Ray3f() = default;
     Ray3f(const Point3f &o, const Vector3f &d, float mint = kEpsilon, float maxt = kInfinity)
         : o(o), d(d), mint(mint), maxt(maxt) {

@@ -34,7 +34,8 @@ public:
     /// The probability that sampleEmitter picks `emitter`.
     float emitterPmf(const Emitter *emitter) const;
 
-    /// Closest intersection along the ray's segment.
+    /// Closest intersection along the ray's segment, completed by its shape
+    /// (Shape::completeHit: uvScale, texture footprint, normal or bump map).
     bool rayIntersect(const Ray3f &ray, Intersection &its) const;
     /// Whether anything blocks the ray's segment (a shadow ray).
     bool rayIntersect(const Ray3f &ray) const;

@@ -5,6 +5,7 @@
 #include <nori/bbox.h>
 #include <nori/frame.h>
 #include <nori/object.h>
+#include <nori/texture.h>
 
 namespace nori {
 
@@ -15,7 +16,8 @@ class Shape;
 /// A point sampled on a shape's surface.
 struct ShapeSample {
     Point3f p;
-    Normal3f n;    ///< outward (geometric) normal at p
+    Point2f uv = Point2f(0.0f, 0.0f); ///< surface parameterisation at p (for textured lights)
+    Normal3f n;                       ///< outward (geometric) normal at p
     float pdf = 0; ///< density: per area (sampleSurface) or per solid angle at the
                    ///< reference point (sampleFromReference)
 };
@@ -28,7 +30,13 @@ struct Intersection {
     Frame shFrame;       ///< shading frame (interpolated normal)
     Frame geoFrame;      ///< geometric frame (true surface normal)
     Vector3f dpdu, dpdv; ///< position derivatives w.r.t. uv (for textures)
-    float dudx = 0.0f, dudy = 0.0f, dvdx = 0.0f, dvdy = 0.0f; ///< uv derivatives on screen
+    /// Derivatives of the shading normal w.r.t. uv (zero for flat shading), for carrying
+    /// ray differentials through curved mirrors and lenses.
+    Vector3f dndu = Vector3f::Zero(), dndv = Vector3f::Zero();
+    /// The footprint of a pixel at the hit (see raydifferential.h): position and uv
+    /// change per pixel step in x and y; all zero for rays without differentials.
+    Vector3f dpdx = Vector3f::Zero(), dpdy = Vector3f::Zero();
+    float dudx = 0.0f, dudy = 0.0f, dvdx = 0.0f, dvdy = 0.0f;
     uint32_t primIndex = 0; ///< index of the primitive within the shape
     const Shape *shape = nullptr;
 
@@ -41,6 +49,11 @@ struct Intersection {
     Ray3f spawnRay(const Vector3f &d) const;
     /// A shadow-ray segment from the surface to `target`, ending just short of it.
     Ray3f spawnRayTo(const Point3f &target) const;
+    /// Whether the world direction d lies on the same side of the geometric and of the
+    /// shading surface. Integrators drop directions where the two disagree, so that a
+    /// bent shading normal (normal map, vertex normals) cannot let light through the
+    /// surface (Veach 1997, §5.3; pbrt-v3 §9.1).
+    bool sidesAgree(const Vector3f &d) const { return geoFrame.n.dot(d) * shFrame.n.dot(d) > 0.0f; }
 };
 
 class Shape : public NoriObject {
@@ -61,6 +74,14 @@ public:
 
     /// Total surface area.
     virtual float getArea() const = 0;
+
+    /// What the scene does to every hit after setHitInformation: applies uvScale,
+    /// computes the pixel footprint from the ray's differentials, then perturbs the
+    /// shading frame by the normal map or bump map, if any.
+    void completeHit(const Ray3f &ray, Intersection &its) const;
+    /// uv as textures see them (scaled by uvScale), for points that did not come from a
+    /// ray hit (a sampled point of an area light).
+    Point2f textureUV(const Point2f &uv) const { return uv.cwiseProduct(m_uvScale); }
     /// A point uniformly distributed over the surface (pdf = 1/area).
     virtual ShapeSample sampleSurface(const Point2f &sample) const = 0;
     /// A point on the surface as seen from `ref`, with its pdf in solid angle at ref. The
@@ -85,7 +106,15 @@ public:
     EClassType getClassType() const override { return kClassType; }
 
 protected:
+    /// Reads the parameters every shape plugin shares: `uvScale` (a float or 2D vector),
+    /// a `normal` texture (tangent space, decoded as 2c − 1) or a `bump` texture (a
+    /// height, scaled by `bumpScale`). Shape plugins call it from their constructor.
+    void readSurfaceParameters(const PropertyList &props);
+
     BoundingBox3f m_bbox;
+    Vector2f m_uvScale = Vector2f(1.0f, 1.0f);
+    std::shared_ptr<const Texture> m_normalMap, m_bumpMap;
+    float m_bumpScale = 1.0f;
     std::shared_ptr<BSDF> m_bsdf;
     std::shared_ptr<Emitter> m_emitter;
 };

@@ -4,8 +4,8 @@
  *
  * Parameters:
  *   material  string  —                  a named metal: Au, Ag, Cu, Al (instead of eta, k)
- *   eta       color   (0.2, 0.92, 1.1)   real part of the index of refraction (copper)
- *   k         color   (3.9, 2.45, 2.14)  imaginary part (absorption)
+ *   eta       color/texture  (0.2, 0.92, 1.1)   real part of the index of refraction (copper)
+ *   k         color/texture  (3.9, 2.45, 2.14)  imaginary part (absorption)
  *   extIOR    float   1.000277           index of refraction of the outside
  *
  *   <bsdf type="conductor"><string name="material" value="Au"/></bsdf>
@@ -19,7 +19,7 @@ namespace nori {
 class Conductor : public BSDF {
 public:
     explicit Conductor(const PropertyList &props) {
-        readConductorIOR(props, "conductor", m_eta, m_k);
+        m_ior = readConductorIOR(props, "conductor", m_textures);
     }
 
     Color3f sample(BSDFQueryRecord &bRec, const Point2f &) const override {
@@ -29,19 +29,19 @@ public:
         bRec.wo = Vector3f(-bRec.wi.x(), -bRec.wi.y(), bRec.wi.z());
         bRec.measure = EDiscrete;
         bRec.eta = 1.0f;
-        return fresnelConductor(cosThetaI, m_eta, m_k);
+        return m_ior.fresnel(bRec, cosThetaI);
     }
 
     Color3f eval(const BSDFQueryRecord &) const override { return Color3f(0.0f); }
     float pdf(const BSDFQueryRecord &) const override { return 0.0f; }
 
     std::string toString() const override {
-        return fmt::format("Conductor[eta=({}, {}, {}), k=({}, {}, {})]", m_eta.r(), m_eta.g(),
-                           m_eta.b(), m_k.r(), m_k.g(), m_k.b());
+        return fmt::format("Conductor[eta={}, k={}, extIOR={}]", m_ior.eta->toString(),
+                           m_ior.k->toString(), m_ior.extIOR);
     }
 
 private:
-    Color3f m_eta, m_k;
+    ConductorIOR m_ior;
 };
 
 NORI_REGISTER_CLASS(Conductor, "conductor");

@@ -2,10 +2,17 @@
  * diffuse — an ideal Lambertian reflector (PBR 4th ed. §9.2).
  *
  * Parameters:
- *   albedo  color  0.5  fraction of light reflected, per channel, in [0, 1]
+ *   albedo  color/texture  0.5  fraction of light reflected, per channel, in [0, 1]
+ *                               (texture values are clamped to [0, 1])
  *
  *   <bsdf type="diffuse">
  *       <color name="albedo" value="0.7, 0.2, 0.2"/>
+ *   </bsdf>
+ *
+ *   <bsdf type="diffuse">
+ *       <texture type="checkerboard" name="albedo">
+ *           <color name="color0" value="0.1"/> <color name="color1" value="0.8"/>
+ *       </texture>
  *   </bsdf>
  */
 #include <nori/bsdf.h>
@@ -17,10 +24,11 @@ namespace nori {
 class Diffuse : public BSDF {
 public:
     explicit Diffuse(const PropertyList &props) {
-        m_albedo = props.getColor("albedo", Color3f(0.5f));
-        if ((m_albedo < 0.0f).any() || (m_albedo > 1.0f).any())
-            throw NoriException("diffuse: 'albedo' must lie in [0, 1], got ({}, {}, {})",
-                                m_albedo.r(), m_albedo.g(), m_albedo.b());
+        m_albedo = m_textures.color(props, "albedo", Color3f(0.5f));
+        const Color3f mean = m_albedo->average();
+        if (m_albedo->isConstant() && ((mean < 0.0f).any() || (mean > 1.0f).any()))
+            throw NoriException("diffuse: 'albedo' must lie in [0, 1], got ({}, {}, {})", mean.r(),
+                                mean.g(), mean.b());
     }
 
     Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const override {
@@ -30,14 +38,14 @@ public:
         bRec.wo = Warp::squareToCosineHemisphere(sample);
         bRec.eta = 1.0f;
         // eval·cos/pdf = (albedo/π)·cos / (cos/π) = albedo.
-        return m_albedo;
+        return albedo(bRec);
     }
 
     Color3f eval(const BSDFQueryRecord &bRec) const override {
         if (bRec.measure != ESolidAngle || Frame::cosTheta(bRec.wi) <= 0.0f ||
             Frame::cosTheta(bRec.wo) <= 0.0f)
             return Color3f(0.0f);
-        return m_albedo * kInvPi;
+        return albedo(bRec) * kInvPi;
     }
 
     float pdf(const BSDFQueryRecord &bRec) const override {
@@ -50,12 +58,13 @@ public:
     bool isDiffuse() const override { return true; }
 
     std::string toString() const override {
-        return fmt::format("Diffuse[albedo=({}, {}, {})]", m_albedo.r(), m_albedo.g(),
-                           m_albedo.b());
+        return fmt::format("Diffuse[albedo={}]", m_albedo->toString());
     }
 
 private:
-    Color3f m_albedo;
+    Color3f albedo(const TextureQuery &q) const { return m_albedo->eval(q).max(0.0f).min(1.0f); }
+
+    std::shared_ptr<const Texture> m_albedo;
 };
 
 NORI_REGISTER_CLASS(Diffuse, "diffuse");

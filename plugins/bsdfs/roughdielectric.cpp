@@ -6,7 +6,7 @@
  *
  * Parameters:
  *   distribution  string  "ggx"     "beckmann" or "ggx"
- *   alpha         float   0.1       roughness (> 0)
+ *   alpha         float/texture  0.1       roughness (> 0)
  *   intIOR        float   1.5046    index of refraction inside
  *   extIOR        float   1.000277  index of refraction outside
  *
@@ -22,22 +22,20 @@ namespace nori {
 class RoughDielectric : public BSDF {
 public:
     explicit RoughDielectric(const PropertyList &props)
-        : m_distribution(MicrofacetDistribution::parseType(props.getString("distribution", "ggx")),
-                         props.getFloat("alpha", 0.1f)) {
+        : m_roughness(MicrofacetDistribution::parseType(props.getString("distribution", "ggx")),
+                      props, m_textures, "roughdielectric") {
         m_intIOR = props.getFloat("intIOR", 1.5046f);
         m_extIOR = props.getFloat("extIOR", 1.000277f);
-        if (!(m_distribution.alpha() > 0.0f))
-            throw NoriException("roughdielectric: 'alpha' must be positive, got {}",
-                                m_distribution.alpha());
         if (!(m_intIOR > 0.0f && m_extIOR > 0.0f) || m_intIOR == m_extIOR)
             throw NoriException("roughdielectric: need positive, different 'intIOR' and 'extIOR'");
     }
 
     Color3f eval(const BSDFQueryRecord &bRec) const override {
+        const MicrofacetDistribution distribution = m_roughness.at(bRec);
         Geometry g;
         if (bRec.measure != ESolidAngle || !geometry(bRec.wi, bRec.wo, g))
             return Color3f(0.0f);
-        const float D = m_distribution.D(g.h), G = m_distribution.G(bRec.wi, bRec.wo, g.h);
+        const float D = distribution.D(g.h), G = distribution.G(bRec.wi, bRec.wo, g.h);
         const float cosI = std::abs(Frame::cosTheta(bRec.wi)),
                     cosO = std::abs(Frame::cosTheta(bRec.wo));
         if (g.reflection)
@@ -57,11 +55,12 @@ public:
     }
 
     float pdf(const BSDFQueryRecord &bRec) const override {
+        const MicrofacetDistribution distribution = m_roughness.at(bRec);
         Geometry g;
         if (bRec.measure != ESolidAngle || !geometry(bRec.wi, bRec.wo, g))
             return 0.0f;
         const float reflectProbability = reflectionProbability(Frame::cosTheta(bRec.wi));
-        const float normalPdf = m_distribution.pdfNormal(g.h);
+        const float normalPdf = distribution.pdfNormal(g.h);
         if (g.reflection)
             return reflectProbability * normalPdf / (4.0f * std::abs(bRec.wo.dot(g.h)));
         // Jacobian of refraction from wi (Walter eq. 17): η_o²|wo·h| / (η_i (wi·h) + η_o (wo·h))².
@@ -71,6 +70,7 @@ public:
     }
 
     Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const override {
+        const MicrofacetDistribution distribution = m_roughness.at(bRec);
         const float cosI = Frame::cosTheta(bRec.wi);
         if (cosI == 0.0f)
             return Color3f(0.0f);
@@ -83,7 +83,7 @@ public:
                                  : (sample.x() - reflectProbability) / (1.0f - reflectProbability),
                              sample.y());
         // A microfacet normal on wi's side of the macro-surface.
-        Vector3f m = m_distribution.sampleNormal(reused);
+        Vector3f m = distribution.sampleNormal(reused);
         if (cosI < 0.0f)
             m = -m;
         // A microfacet facing away from wi is shadowed (G1 = 0): no sample.
@@ -112,9 +112,9 @@ public:
 
     std::string toString() const override {
         return fmt::format("RoughDielectric[distribution={}, alpha={}, intIOR={}, extIOR={}]",
-                           m_distribution.type() == MicrofacetDistribution::Type::GGX ? "ggx"
-                                                                                      : "beckmann",
-                           m_distribution.alpha(), m_intIOR, m_extIOR);
+                           m_roughness.type() == MicrofacetDistribution::Type::GGX ? "ggx"
+                                                                                   : "beckmann",
+                           m_roughness.alpha().toString(), m_intIOR, m_extIOR);
     }
 
 private:
@@ -154,7 +154,7 @@ private:
         return true;
     }
 
-    MicrofacetDistribution m_distribution;
+    TexturedMicrofacet m_roughness;
     float m_intIOR, m_extIOR;
 };
 

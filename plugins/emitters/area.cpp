@@ -1,12 +1,13 @@
 /*
- * area — a diffuse area light: constant radiance leaving the front side of the shape it
+ * area — a diffuse area light: radiance (constant or textured over the shape's uv)
+ * leaving the front side of the shape it
  * is nested in: the side its vertex normals point to (as Nori 2 and pbrt decide, even
  * when the triangles wind the other way), else the side of its winding's normal.
  * Points are sampled by the shape: by area for meshes, through the subtended cone for
  * spheres.
  *
  * Parameters:
- *   radiance  color  (required)  emitted radiance
+ *   radiance  color/texture  (required)  emitted radiance
  *
  *   <mesh type="obj"><string name="filename" value="scenes/cbox/meshes/light.obj"/>
  *       <emitter type="area"><color name="radiance" value="10, 10, 10"/></emitter></mesh>
@@ -22,8 +23,8 @@ namespace nori {
 class AreaLight : public Emitter {
 public:
     explicit AreaLight(const PropertyList &props) {
-        m_radiance = props.getColor("radiance");
-        if ((m_radiance < 0.0f).any())
+        m_radiance = m_textures.color(props, "radiance");
+        if (m_radiance->isConstant() && (m_radiance->average() < 0.0f).any())
             throw NoriException("area: 'radiance' must not be negative");
     }
 
@@ -33,6 +34,7 @@ public:
         const ShapeSample point = m_shape->sampleFromReference(lRec.ref, sample);
         lRec.p = point.p;
         lRec.n = point.n;
+        lRec.uv = m_shape->textureUV(point.uv);
         const Vector3f toLight = lRec.p - lRec.ref;
         const float distance = toLight.norm();
         if (distance == 0.0f || point.pdf <= 0.0f)
@@ -46,7 +48,8 @@ public:
 
     Color3f eval(const EmitterQueryRecord &lRec) const override {
         // One-sided: only the side the normal points to emits.
-        return lRec.n.dot(lRec.wi) < 0.0f ? m_radiance : Color3f(0.0f);
+        return lRec.n.dot(lRec.wi) < 0.0f ? Color3f(m_radiance->eval(lRec).max(0.0f))
+                                          : Color3f(0.0f);
     }
 
     float pdf(const EmitterQueryRecord &lRec) const override {
@@ -55,16 +58,18 @@ public:
         return m_shape->pdfFromReference(lRec.ref, lRec.p, lRec.n);
     }
 
-    // A Lambertian emitter radiates π·L per unit area.
-    Color3f getPower() const override { return m_radiance * (kPi * m_shape->getArea()); }
+    // A Lambertian emitter radiates π·L per unit area; a texture by its uv average (exact
+    // when uv is proportional to area, a fair guess for choosing lights otherwise).
+    Color3f getPower() const override {
+        return m_radiance->average().max(0.0f) * (kPi * m_shape->getArea());
+    }
 
     std::string toString() const override {
-        return fmt::format("AreaLight[radiance=({}, {}, {})]", m_radiance.r(), m_radiance.g(),
-                           m_radiance.b());
+        return fmt::format("AreaLight[radiance={}]", m_radiance->toString());
     }
 
 private:
-    Color3f m_radiance;
+    std::shared_ptr<const Texture> m_radiance;
 };
 
 NORI_REGISTER_CLASS(AreaLight, "area");

@@ -11,6 +11,7 @@
 #include <nori/emitter.h>
 #include <nori/integrator.h>
 #include <nori/pathtracer.h>
+#include <nori/raydifferential.h>
 #include <nori/sampler.h>
 #include <nori/scene.h>
 
@@ -36,14 +37,12 @@ public:
         constexpr float kContinue = 0.95f;
         if (sampler->next1D() >= kContinue)
             return radiance;
-        BSDFQueryRecord bRec(wiLocal);
-        bRec.uv = its.uv;
-        bRec.p = its.p;
+        BSDFQueryRecord bRec(its, wiLocal);
         const Color3f weight = bsdf->sample(bRec, sampler->next2D());
         if ((weight == 0.0f).all())
             return radiance;
         return radiance +
-               weight * Li(scene, sampler, its.spawnRay(its.toWorld(bRec.wo))) / kContinue;
+               weight * Li(scene, sampler, spawnScatteredRay(its, ray, bRec)) / kContinue;
     }
 
     std::string toString() const override { return "WhittedIntegrator[]"; }

@@ -5,11 +5,25 @@
  * one; otherwise the geometric normal and barycentric uvs are.
  *
  * Parameters:
- *   filename  string     (required)  OBJ file, relative to the XML file's folder
- *   toWorld   transform  identity    object-to-world transform
+ *   filename   string     (required)  OBJ file, relative to the XML file's folder
+ *   toWorld    transform  identity    object-to-world transform
+ *   uvScale    vector     (1, 1)      uv are scaled by this for textures (a <float>
+ *                                     scales both)
+ *   normal     texture    —           tangent-space normal map (decoded as 2c − 1;
+ *                                     tangents follow dp/du, smoothed per vertex)
+ *   bump       texture    —           height map for bump mapping (instead of normal)
+ *   bumpScale  float      1           the heights are scaled by this
  *
  *   <mesh type="obj">
  *       <string name="filename" value="scenes/cbox/meshes/floor.obj"/>
+ *   </mesh>
+ *
+ *   <mesh type="obj">
+ *       <string name="filename" value="scenes/textured/meshes/floor.obj"/>
+ *       <float name="uvScale" value="4"/>
+ *       <texture type="image" name="normal">
+ *           <string name="filename" value="scenes/textured/textures/bricks_normal.png"/>
+ *       </texture>
  *   </mesh>
  */
 #include <nori/filesystem.h>
@@ -151,6 +165,7 @@ public:
     explicit WavefrontOBJ(const PropertyList &props) {
         m_name = props.getPath("filename");
         const Transform toWorld = props.getTransform("toWorld", Transform());
+        readSurfaceParameters(props);
 
         std::istringstream in(readTextFile(m_name, "OBJ mesh file"));
         ObjParser parser(m_name);

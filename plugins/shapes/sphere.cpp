@@ -11,6 +11,11 @@
  *   radius       float    1          radius, positive
  *   flipNormals  boolean  false      normals point inward (a room, or an emitting shell
  *                                    lit from inside)
+ *   uvScale      vector   (1, 1)     uv are scaled by this for textures (a <float>
+ *                                    scales both)
+ *   normal       texture  —          tangent-space normal map (decoded as 2c − 1)
+ *   bump         texture  —          height map for bump mapping (instead of normal)
+ *   bumpScale    float    1          the heights are scaled by this
  *
  *   <mesh type="sphere">
  *       <point name="center" value="0, 1, 0"/> <float name="radius" value="0.5"/>
@@ -28,6 +33,7 @@ public:
         m_center = props.getPoint("center", Point3f(0.0f));
         m_radius = props.getFloat("radius", 1.0f);
         m_flipNormals = props.getBoolean("flipNormals", false);
+        readSurfaceParameters(props);
         if (!(m_radius > 0.0f) || !std::isfinite(m_radius))
             throw NoriException("sphere: 'radius' must be positive, got {}", m_radius);
         m_bbox = BoundingBox3f(m_center - Vector3f(m_radius), m_center + Vector3f(m_radius));
@@ -75,11 +81,10 @@ public:
         its.primIndex = 0;
         its.shape = this;
 
-        // Longitude φ and latitude β: u = 0.5 + φ/2π, v = 0.5 + β/π.
+        its.uv = uvOf(n);
         const float phi = std::atan2(n.y(), n.x());
         const float sinBeta = std::clamp(n.z(), -1.0f, 1.0f);
         const float cosBeta = safeSqrt(1.0f - sinBeta * sinBeta);
-        its.uv = Point2f(0.5f + phi * kInvTwoPi, 0.5f + std::asin(sinBeta) * kInvPi);
 
         // p = c + r (cos β cos φ, cos β sin φ, sin β), with φ = 2π(u − ½), β = π(v − ½):
         // ∂p/∂u = 2π r (−cos β sin φ, cos β cos φ, 0); ∂p/∂v = π r (−sin β cos φ, −sin β sin φ, cos
@@ -97,6 +102,9 @@ public:
             its.geoFrame = Frame(normal);
         }
         its.shFrame = its.geoFrame;
+        // n = ±(p − c)/r, so dn/du = ±(dp/du)/r.
+        its.dndu = side / m_radius * its.dpdu;
+        its.dndv = side / m_radius * its.dpdv;
     }
 
     float getArea() const override { return 4.0f * kPi * m_radius * m_radius; }
@@ -106,6 +114,7 @@ public:
         ShapeSample result;
         result.p = m_center + m_radius * n;
         result.n = m_flipNormals ? Vector3f(-n) : n;
+        result.uv = uvOf(n);
         result.pdf = 1.0f / getArea();
         return result;
     }
@@ -129,6 +138,7 @@ public:
         result.p = ref + t * direction;
         const Vector3f n = Vector3f(result.p - m_center).normalized();
         result.n = m_flipNormals ? Vector3f(-n) : n;
+        result.uv = uvOf(n);
         result.pdf = Warp::squareToUniformSphereCapPdf(local, cosThetaMax);
         return result;
     }
@@ -151,6 +161,14 @@ public:
     }
 
 private:
+    /// Longitude φ and latitude β of the unit outward direction n: u = 0.5 + φ/2π,
+    /// v = 0.5 + β/π (the course's convention).
+    static Point2f uvOf(const Vector3f &n) {
+        const float phi = std::atan2(n.y(), n.x());
+        const float beta = std::asin(std::clamp(n.z(), -1.0f, 1.0f));
+        return Point2f(0.5f + phi * kInvTwoPi, 0.5f + beta * kInvPi);
+    }
+
     /// Whether a reference point at this squared distance from the centre is clearly
     /// outside, so the sphere subtends a proper cone; points inside or on the surface
     /// (within a relative 1e-3, e.g. on the light itself) use area sampling.

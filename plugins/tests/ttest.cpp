@@ -135,7 +135,7 @@ private:
             const Point2f film = sampler->next2D();
             const Point2f pixel(film.x() * size.x(), film.y() * size.y());
             Ray3f ray;
-            Color3f value = camera->sampleRay(ray, pixel, sampler->next2D());
+            Color3f value = camera->sampleRayDifferential(ray, pixel, sampler->next2D());
             value *= scene.getIntegrator()->Li(&scene, sampler.get(), ray);
             moments.add(value.getLuminance());
         }

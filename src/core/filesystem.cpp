@@ -31,7 +31,7 @@ std::string canonicalPathOrSame(const std::string &path) {
     return error ? path : canonical.string();
 }
 
-std::string readTextFile(const std::string &path, const std::string &what) {
+std::string readBinaryFile(const std::string &path, const std::string &what) {
     requireRegularFile(path, what);
     std::ifstream stream(path, std::ios::binary);
     if (!stream)
@@ -40,7 +40,11 @@ std::string readTextFile(const std::string &path, const std::string &what) {
     buffer << stream.rdbuf();
     if (stream.bad())
         throw NoriException("cannot read {} '{}': read error", what, path);
-    std::string text = buffer.str();
+    return buffer.str();
+}
+
+std::string readTextFile(const std::string &path, const std::string &what) {
+    std::string text = readBinaryFile(path, what);
     const size_t nul = text.find('\0');
     if (nul != std::string::npos)
         throw NoriException("'{}' is not a text file (a NUL byte at offset {}), so not a valid {}",

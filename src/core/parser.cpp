@@ -4,6 +4,7 @@
 
 #include <pugixml.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <list>
@@ -448,6 +449,7 @@ private:
             !frame.props.contains("convention"))
             frame.props.set("convention", m_cameraConvention, "command line (--camera-convention)");
 
+        bindNamedTextures(frame);
         const std::string description = fmt::format("<{} type=\"{}\">", tag, type);
         std::shared_ptr<NoriObject> object = atLocation(location, [&] {
             try {
@@ -492,6 +494,19 @@ private:
         }
         // else: a BSDF, texture or phase function with an id directly in <scene> is a
         // declaration, made to be used through <ref>, not a part of the scene itself.
+    }
+
+    /// A <texture name="albedo"> (or a <ref> to one) feeds the parameter of that name: it
+    /// becomes a property, read by the plugin like a <color> (see PropertyList::Value).
+    static void bindNamedTextures(ObjectFrame &frame) {
+        auto isBound = [](const Child &child) {
+            return child.object->getClassType() == NoriObject::ETexture && !child.name.empty();
+        };
+        for (const Child &child : frame.children)
+            if (isBound(child))
+                frame.props.set(child.name, child.object, child.location);
+        frame.children.erase(std::remove_if(frame.children.begin(), frame.children.end(), isBound),
+                             frame.children.end());
     }
 
     static bool isDeclarationKind(NoriObject::EClassType type) {

@@ -9,8 +9,10 @@ namespace nori {
 
 namespace {
 
-const std::vector<std::string> kParameterTypes = {"boolean", "integer", "float",  "string",
-                                                  "color",   "point",   "vector", "transform"};
+// "color/texture": a <color> or a <texture> child of that name; "texture": a texture only.
+const std::vector<std::string> kParameterTypes = {
+    "boolean", "integer",   "float",   "string",        "color",        "point",
+    "vector",  "transform", "texture", "color/texture", "float/texture"};
 
 std::map<std::string, std::string> &docComments() {
     static std::map<std::string, std::string> comments;

@@ -9,8 +9,9 @@ namespace {
 
 /// The XML tag that produces each alternative of PropertyList::Value.
 const char *typeName(size_t index) {
-    static const char *kNames[] = {"boolean", "integer",    "float",  "string",      "color",
-                                   "point",   "point (2D)", "vector", "vector (2D)", "transform"};
+    static const char *kNames[] = {"boolean",     "integer",   "float",        "string",
+                                   "color",       "point",     "point (2D)",   "vector",
+                                   "vector (2D)", "transform", "nested object"};
     return kNames[index];
 }
 
@@ -56,6 +57,16 @@ template <typename T> T PropertyList::get(const std::string &name, const T &defa
     return value ? *value : defaultValue;
 }
 
+std::shared_ptr<NoriObject> PropertyList::getObject(const std::string &name) const {
+    return get<std::shared_ptr<NoriObject>>(name, nullptr);
+}
+
+bool PropertyList::holdsObject(const std::string &name) const {
+    auto it = m_properties.find(name);
+    return it != m_properties.end() &&
+           std::holds_alternative<std::shared_ptr<NoriObject>>(it->second.value);
+}
+
 bool PropertyList::getBoolean(const std::string &name) const {
     return get<bool>(name);
 }
@@ -86,9 +97,13 @@ std::string PropertyList::getString(const std::string &name,
     return get<std::string>(name, defaultValue);
 }
 Color3f PropertyList::getColor(const std::string &name) const {
+    if (holdsScalar(name))
+        return Color3f(getFloat(name));
     return get<Color3f>(name);
 }
 Color3f PropertyList::getColor(const std::string &name, const Color3f &defaultValue) const {
+    if (holdsScalar(name))
+        return Color3f(getFloat(name));
     return get<Color3f>(name, defaultValue);
 }
 Point3f PropertyList::getPoint(const std::string &name) const {
@@ -133,6 +148,12 @@ std::string PropertyList::getPath(const std::string &name) const {
 bool PropertyList::holdsInteger(const std::string &name) const {
     auto it = m_properties.find(name);
     return it != m_properties.end() && std::holds_alternative<int>(it->second.value);
+}
+
+bool PropertyList::holdsScalar(const std::string &name) const {
+    auto it = m_properties.find(name);
+    return it != m_properties.end() && (std::holds_alternative<int>(it->second.value) ||
+                                        std::holds_alternative<float>(it->second.value));
 }
 
 bool PropertyList::has(const std::string &name) const {

@@ -72,8 +72,33 @@ void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hi
         its.dpdv = its.geoFrame.t;
     }
 
-    const Vector3f shadingNormal = interpolatedNormal(index, b1, b2);
-    its.shFrame = shadingNormal.isZero() ? its.geoFrame : Frame(shadingNormal);
+    // Shading frame: the interpolated normal, with s along the interpolated per-vertex
+    // tangent where the mesh has uvs (smooth across triangles, for normal maps), else
+    // along dp/du, both made orthogonal to the normal (Gram–Schmidt).
+    Vector3f shadingNormal = interpolatedNormal(index, b1, b2);
+    if (shadingNormal.isZero())
+        shadingNormal = its.geoFrame.n;
+    Vector3f tangent = its.dpdu;
+    if (!m_tangents.empty())
+        tangent = b0 * m_tangents[face[0]] + b1 * m_tangents[face[1]] + b2 * m_tangents[face[2]];
+    tangent -= shadingNormal * shadingNormal.dot(tangent);
+    if (tangent.squaredNorm() > 1e-20f) {
+        tangent.normalize();
+        its.shFrame = Frame(tangent, shadingNormal.cross(tangent), shadingNormal);
+    } else {
+        its.shFrame = Frame(shadingNormal);
+    }
+
+    // Derivatives of the (unnormalised) interpolated normal w.r.t. uv, from the same 2x2
+    // system as dp/du with the normal differences (pbrt-v3 §3.6.2).
+    its.dndu = its.dndv = Vector3f::Zero();
+    if (!m_normals.empty() && std::abs(determinant) > 1e-12f) {
+        const Vector3f dn1 = m_normals[face[1]] - m_normals[face[0]];
+        const Vector3f dn2 = m_normals[face[2]] - m_normals[face[0]];
+        const float invDet = 1.0f / determinant;
+        its.dndu = (duv2.y() * dn1 - duv1.y() * dn2) * invDet;
+        its.dndv = (duv1.x() * dn2 - duv2.x() * dn1) * invDet;
+    }
 }
 
 Vector3f Mesh::interpolatedNormal(uint32_t index, float b1, float b2) const {
@@ -132,6 +157,8 @@ void Mesh::finishLoading(const Transform &toWorld) {
         for (int i = 0; i < 3; ++i)
             m_bbox.expandBy(m_positions[face[i]]);
 
+    computeTangents();
+
     m_triangleAreas.clear();
     m_triangleAreas.reserve(m_faces.size());
     for (uint32_t i = 0; i < m_faces.size(); ++i)
@@ -152,8 +179,37 @@ ShapeSample Mesh::sampleSurface(const Point2f &sample) const {
     ShapeSample result;
     result.p = b0 * p0 + b1 * p1 + b2 * p2;
     result.n = faceForward(Vector3f(p1 - p0).cross(Vector3f(p2 - p0)).normalized(), index, b1, b2);
+    result.uv = m_texCoords.empty()
+                    ? Point2f(b1, b2)
+                    : Point2f(b0 * m_texCoords[face[0]] + b1 * m_texCoords[face[1]] +
+                              b2 * m_texCoords[face[2]]);
     result.pdf = 1.0f / getArea();
     return result;
+}
+
+void Mesh::computeTangents() {
+    m_tangents.clear();
+    if (m_texCoords.empty())
+        return;
+    // Each triangle adds its unit dp/du weighted by its area to its three vertices
+    // (Lengyel 2001, "Computing Tangent Space Basis Vectors for an Arbitrary Mesh").
+    m_tangents.assign(m_positions.size(), Vector3f::Zero());
+    for (const Vector3i &face : m_faces) {
+        const Vector3f edge1 = m_positions[face[1]] - m_positions[face[0]];
+        const Vector3f edge2 = m_positions[face[2]] - m_positions[face[0]];
+        const Vector2f duv1 = m_texCoords[face[1]] - m_texCoords[face[0]];
+        const Vector2f duv2 = m_texCoords[face[2]] - m_texCoords[face[0]];
+        const float determinant = duv1.x() * duv2.y() - duv1.y() * duv2.x();
+        if (!(std::abs(determinant) > 1e-12f))
+            continue;
+        Vector3f dpdu = (duv2.y() * edge1 - duv1.y() * edge2) / determinant;
+        if (!(dpdu.squaredNorm() > 0.0f) || !dpdu.allFinite())
+            continue;
+        const float area = 0.5f * edge1.cross(edge2).norm();
+        dpdu = dpdu.normalized() * area;
+        for (int i = 0; i < 3; ++i)
+            m_tangents[face[i]] += dpdu;
+    }
 }
 
 std::string Mesh::toString() const {

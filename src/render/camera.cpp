@@ -31,4 +31,20 @@ void Camera::activate() {
         m_rfilter = createDefault<ReconstructionFilter>("gaussian");
 }
 
+Color3f Camera::sampleRayDifferential(Ray3f &ray, const Point2f &samplePosition,
+                                      const Point2f &apertureSample) const {
+    const Color3f weight = sampleRay(ray, samplePosition, apertureSample);
+    Ray3f rx, ry;
+    if ((weight == 0.0f).all() ||
+        (sampleRay(rx, samplePosition + Point2f(1.0f, 0.0f), apertureSample) == 0.0f).all() ||
+        (sampleRay(ry, samplePosition + Point2f(0.0f, 1.0f), apertureSample) == 0.0f).all())
+        return weight; // no neighbour ray (e.g. outside a lens's exit pupil): no footprint
+    ray.hasDifferentials = true;
+    ray.rxOrigin = rx.o;
+    ray.rxDirection = rx.d;
+    ray.ryOrigin = ry.o;
+    ray.ryDirection = ry.d;
+    return weight;
+}
+
 } // namespace nori

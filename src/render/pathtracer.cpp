@@ -1,6 +1,7 @@
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/pathtracer.h>
+#include <nori/raydifferential.h>
 #include <nori/sampler.h>
 #include <nori/scene.h>
 
@@ -46,9 +47,7 @@ Color3f sampleDirectLight(const Scene *scene, Sampler *sampler, const Intersecti
     const Color3f radianceOverPdf = emitter->sample(lRec, sample);
     if ((radianceOverPdf == 0.0f).all() || scene->rayIntersect(its.spawnRayTo(lRec.p)))
         return Color3f(0.0f);
-    BSDFQueryRecord bRec(wiLocal, its.toLocal(lRec.wi), ESolidAngle);
-    bRec.uv = its.uv;
-    bRec.p = its.p;
+    const BSDFQueryRecord bRec(its, wiLocal, its.toLocal(lRec.wi), ESolidAngle);
     const Color3f f = bsdf.eval(bRec);
     if ((f == 0.0f).all())
         return Color3f(0.0f);
@@ -94,9 +93,7 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
             radiance += throughput * sampleDirectLight(scene, sampler, its, *bsdf, wiLocal,
                                                        m_strategy == Strategy::MIS);
 
-        BSDFQueryRecord bRec(wiLocal);
-        bRec.uv = its.uv;
-        bRec.p = its.p;
+        BSDFQueryRecord bRec(its, wiLocal);
         const Color3f weight = bsdf->sample(bRec, sampler->next2D());
         if ((weight == 0.0f).all())
             break;
@@ -104,7 +101,7 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
         bsdfPdf = bRec.measure == EDiscrete ? 0.0f : bsdf->pdf(bRec);
         throughput *= weight;
         previous = its.p;
-        ray = its.spawnRay(its.toWorld(bRec.wo));
+        ray = spawnScatteredRay(its, ray, bRec);
 
         // Russian roulette: continue with probability q, and divide by it.
         if (depth + 1 >= m_rrDepth) {

@@ -56,7 +56,7 @@ bool renderBlock(const Scene &scene, Sampler &sampler, ImageBlock &block,
                 Point2f pixelSample = pixel.cast<float>() + sampler.next2D();
                 Point2f apertureSample = sampler.next2D();
                 Ray3f ray;
-                Color3f value = camera->sampleRay(ray, pixelSample, apertureSample);
+                Color3f value = camera->sampleRayDifferential(ray, pixelSample, apertureSample);
                 value *= integrator->Li(&scene, &sampler, ray);
                 if (value.isValid())
                     block.put(pixelSample, value);

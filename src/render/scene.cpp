@@ -19,7 +19,10 @@ Scene::~Scene() = default;
 
 bool Scene::rayIntersect(const Ray3f &ray, Intersection &its) const {
     ++m_rayCounter->perThread.local();
-    return m_accel.rayIntersect(ray, its, false);
+    if (!m_accel.rayIntersect(ray, its, false))
+        return false;
+    its.shape->completeHit(ray, its);
+    return true;
 }
 
 bool Scene::rayIntersect(const Ray3f &ray) const {

@@ -45,4 +45,11 @@ float MicrofacetDistribution::pdfNormal(const Vector3f &m) const {
                                : Warp::squareToBeckmannPdf(m, m_alpha);
 }
 
+TexturedMicrofacet::TexturedMicrofacet(MicrofacetDistribution::Type type, const PropertyList &props,
+                                       TextureParameters &textures, const std::string &plugin)
+    : m_type(type), m_alpha(textures.scalar(props, "alpha", 0.1f)) {
+    if (m_alpha->isConstant() && !(m_alpha->average().x() > 0.0f))
+        throw NoriException("{}: 'alpha' must be positive, got {}", plugin, m_alpha->average().x());
+}
+
 } // namespace nori

@@ -1,0 +1,22 @@
+// The MIP pyramids of image files, decoded once: every texture that names the same file
+// with the same colour space shares one pyramid, which lives as long as one of them does.
+#pragma once
+#include <nori/mipmap.h>
+
+#include <memory>
+#include <string>
+
+namespace nori {
+
+/// How the values of an image file become texture values.
+enum class ColorSpace {
+    Auto,  ///< sRGB-decode 8- and 16-bit files, take float files as they are
+    SRGB,  ///< decode from sRGB
+    Linear ///< take the stored values (normal, roughness and bump maps)
+};
+
+/// The pyramid of `filename` in `colorSpace`, from the cache or decoded now. Throws
+/// NoriException naming the file when it cannot be read, or holds a NaN or infinity.
+std::shared_ptr<const MIPMap> loadTextureImage(const std::string &filename, ColorSpace colorSpace);
+
+} // namespace nori

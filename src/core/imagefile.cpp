@@ -1,0 +1,469 @@
+#include <nori/filesystem.h>
+#include <nori/imagefile.h>
+
+// Debian's stb_image, fuzzed, writes out of bounds on a JPEG whose Huffman counts sum
+// past 256, loops forever on a truncated run-length HDR scanline and trusts a 2 GB PNG
+// chunk length; so PNG and JPEG are decoded by libpng and libjpeg-turbo (both
+// continuously fuzzed upstream), HDR by the bounded reader below, EXR by tinyexr with
+// its error paths' leaks plugged here.
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <jpeglib.h>
+#include <png.h>
+#include <tinyexr.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace nori {
+
+namespace {
+
+constexpr int kMaxSide = 65536;
+
+void checkSize(int64_t width, int64_t height, std::size_t maxPixels, const std::string &name,
+               const char *format) {
+    if (width < 1 || height < 1 || width > kMaxSide || height > kMaxSide ||
+        static_cast<uint64_t>(width) * static_cast<uint64_t>(height) > maxPixels)
+        throw NoriException("{} image '{}' has an unsupported size {}x{} (each side 1 to {}, at "
+                            "most {} pixels)",
+                            format, name, width, height, kMaxSide, maxPixels);
+}
+
+bool startsWith(const std::string &bytes, const char *magic, std::size_t length) {
+    return bytes.size() >= length && std::memcmp(bytes.data(), magic, length) == 0;
+}
+
+// ---------------------------------------------------------------------------------- PNG
+// libpng reports errors by longjmp to the setjmp in readPng's frame; only plain data
+// lives in the frames it jumps over, and every C++ object is owned by the caller.
+
+struct PngSource {
+    const std::string *bytes;
+    std::size_t offset = 0;
+    char message[256] = "";
+};
+
+void pngError(png_structp png, png_const_charp message) {
+    auto *source = static_cast<PngSource *>(png_get_error_ptr(png));
+    std::snprintf(source->message, sizeof(source->message), "%s", message);
+    png_longjmp(png, 1);
+}
+
+void pngWarning(png_structp, png_const_charp) {}
+
+void pngRead(png_structp png, png_bytep out, png_size_t count) {
+    auto *source = static_cast<PngSource *>(png_get_io_ptr(png));
+    if (source->bytes->size() - source->offset < count)
+        png_error(png, "the file ends early (truncated)");
+    std::memcpy(out, source->bytes->data() + source->offset, count);
+    source->offset += count;
+}
+
+struct PngLayout {
+    png_uint_32 width = 0, height = 0;
+    int bitDepth = 0;
+    std::size_t rowBytes = 0;
+};
+
+/// Phase 1: header and transformations (to 8- or 16-bit RGB). Returns false on error.
+bool readPngHeader(png_structp png, png_infop info, std::size_t maxPixels, PngLayout &layout) {
+    if (setjmp(png_jmpbuf(png)))
+        return false;
+    png_set_user_limits(png, kMaxSide, kMaxSide);
+    png_set_chunk_malloc_max(png, 8u << 20); // ancillary chunks (text, ICC) up to 8 MiB
+    png_read_info(png, info);
+    layout.width = png_get_image_width(png, info);
+    layout.height = png_get_image_height(png, info);
+    if (static_cast<uint64_t>(layout.width) * layout.height > maxPixels)
+        png_error(png, "image too large");
+    png_set_expand(png); // palette → RGB, grey < 8 bit → 8 bit, tRNS → alpha
+    png_set_gray_to_rgb(png);
+    png_set_strip_alpha(png);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    layout.bitDepth = png_get_bit_depth(png, info);
+    layout.rowBytes = png_get_rowbytes(png, info);
+    return true;
+}
+
+/// Phase 2: the rows, into `data` (sized by the caller). Returns false on error.
+bool readPngRows(png_structp png, png_infop info, std::vector<png_bytep> &rows) {
+    if (setjmp(png_jmpbuf(png)))
+        return false;
+    png_read_image(png, rows.data());
+    png_read_end(png, info);
+    return true;
+}
+
+ImageFile decodePng(const std::string &bytes, const std::string &name, std::size_t maxPixels) {
+    PngSource source{&bytes};
+    png_structp png =
+        png_create_read_struct(PNG_LIBPNG_VER_STRING, &source, &pngError, &pngWarning);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    struct Guard {
+        png_structp &png;
+        png_infop &info;
+        ~Guard() { png_destroy_read_struct(&png, &info, nullptr); }
+    } guard{png, info};
+    if (!info)
+        throw NoriException("PNG image '{}': out of memory", name);
+    png_set_read_fn(png, &source, &pngRead);
+
+    PngLayout layout;
+    if (!readPngHeader(png, info, maxPixels, layout)) {
+        if (std::strcmp(source.message, "image too large") == 0)
+            checkSize(layout.width, layout.height, maxPixels, name, "PNG");
+        throw NoriException("PNG image '{}' is invalid: {}", name, source.message);
+    }
+    checkSize(layout.width, layout.height, maxPixels, name, "PNG");
+    const int bytesPerSample = layout.bitDepth == 16 ? 2 : 1;
+    if (layout.rowBytes != static_cast<std::size_t>(layout.width) * 3 * bytesPerSample)
+        throw NoriException("PNG image '{}': unexpected row layout", name);
+    std::vector<png_byte> data(layout.rowBytes * layout.height);
+    std::vector<png_bytep> rows(layout.height);
+    for (png_uint_32 y = 0; y < layout.height; ++y)
+        rows[y] = data.data() + y * layout.rowBytes;
+    if (!readPngRows(png, info, rows))
+        throw NoriException("PNG image '{}' is invalid: {}", name, source.message);
+
+    ImageFile image{Bitmap(Eigen::Vector2i(layout.width, layout.height)), true};
+    const float scale = 1.0f / (bytesPerSample == 2 ? 65535.0f : 255.0f);
+    for (png_uint_32 y = 0; y < layout.height; ++y)
+        for (png_uint_32 x = 0; x < layout.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const png_byte *sample = rows[y] + (3 * x + c) * bytesPerSample;
+                const int value = bytesPerSample == 2 ? (sample[0] << 8) | sample[1] : sample[0];
+                image.pixels.coeffRef(y, x)[c] = value * scale;
+            }
+    return image;
+}
+
+// --------------------------------------------------------------------------------- JPEG
+
+struct JpegErrors {
+    jpeg_error_mgr base;
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX] = "";
+};
+
+void jpegError(j_common_ptr cinfo) {
+    auto *errors = reinterpret_cast<JpegErrors *>(cinfo->err);
+    (*cinfo->err->format_message)(cinfo, errors->message);
+    std::longjmp(errors->jump, 1);
+}
+
+void jpegSilence(j_common_ptr, int) {}
+
+/// A progressive JPEG can hold thousands of tiny scans, each re-decoding the whole image:
+/// a few hundred bytes that take minutes. No real encoder writes more than a few dozen.
+constexpr int kMaxJpegScans = 256;
+
+void jpegProgress(j_common_ptr cinfo) {
+    if (cinfo->is_decompressor &&
+        reinterpret_cast<j_decompress_ptr>(cinfo)->input_scan_number > kMaxJpegScans) {
+        auto *errors = reinterpret_cast<JpegErrors *>(cinfo->err);
+        std::snprintf(errors->message, sizeof(errors->message), "more than %d progressive scans",
+                      kMaxJpegScans);
+        std::longjmp(errors->jump, 1);
+    }
+}
+
+/// Decodes into `data` (resized by a callback-free two-step protocol: the header first,
+/// then the rows). Returns false on error, with the message in `errors`.
+bool readJpeg(jpeg_decompress_struct &cinfo, JpegErrors &errors, const std::string &bytes,
+              std::size_t maxPixels, std::vector<unsigned char> &data, int &width, int &height) {
+    if (setjmp(errors.jump))
+        return false;
+    jpeg_mem_src(&cinfo, reinterpret_cast<const unsigned char *>(bytes.data()),
+                 static_cast<unsigned long>(bytes.size()));
+    jpeg_read_header(&cinfo, TRUE);
+    width = static_cast<int>(cinfo.image_width);
+    height = static_cast<int>(cinfo.image_height);
+    if (width < 1 || height < 1 || width > kMaxSide || height > kMaxSide ||
+        static_cast<uint64_t>(width) * static_cast<uint64_t>(height) > maxPixels) {
+        std::snprintf(errors.message, sizeof(errors.message), "size");
+        return false;
+    }
+    cinfo.out_color_space = JCS_RGB;
+    jpeg_start_decompress(&cinfo);
+    if (cinfo.output_components != 3) {
+        std::snprintf(errors.message, sizeof(errors.message), "unsupported colour space");
+        return false;
+    }
+    data.resize(static_cast<std::size_t>(width) * height * 3);
+    while (cinfo.output_scanline < cinfo.output_height) {
+        JSAMPROW row = data.data() + static_cast<std::size_t>(cinfo.output_scanline) * width * 3;
+        jpeg_read_scanlines(&cinfo, &row, 1);
+    }
+    jpeg_finish_decompress(&cinfo);
+    return true;
+}
+
+ImageFile decodeJpeg(const std::string &bytes, const std::string &name, std::size_t maxPixels) {
+    jpeg_decompress_struct cinfo;
+    JpegErrors errors;
+    cinfo.err = jpeg_std_error(&errors.base);
+    errors.base.error_exit = &jpegError;
+    errors.base.emit_message = &jpegSilence;
+    jpeg_progress_mgr progress;
+    progress.progress_monitor = &jpegProgress;
+    jpeg_create_decompress(&cinfo);
+    cinfo.progress = &progress;
+    cinfo.mem->max_memory_to_use = 512L << 20;
+    struct Guard {
+        jpeg_decompress_struct &cinfo;
+        ~Guard() { jpeg_destroy_decompress(&cinfo); }
+    } guard{cinfo};
+
+    std::vector<unsigned char> data;
+    int width = 0, height = 0;
+    if (!readJpeg(cinfo, errors, bytes, maxPixels, data, width, height)) {
+        if (std::strcmp(errors.message, "size") == 0)
+            checkSize(width, height, maxPixels, name, "JPEG");
+        throw NoriException("JPEG image '{}' is invalid: {}", name, errors.message);
+    }
+    ImageFile image{Bitmap(Eigen::Vector2i(width, height)), true};
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c)
+                image.pixels.coeffRef(y, x)[c] =
+                    data[3 * (static_cast<std::size_t>(y) * width + x) + c] / 255.0f;
+    return image;
+}
+
+// ---------------------------------------------------------------------- Radiance HDR
+// Ward, "Real Pixels" (Graphics Gems II, 1991): RGBE pixels, optionally run-length coded
+// per scanline and channel. Every read is bounds-checked, every run must fit its line.
+
+class HdrReader {
+public:
+    HdrReader(const std::string &bytes, const std::string &name) : m_bytes(bytes), m_name(name) {}
+
+    ImageFile decode(std::size_t maxPixels) {
+        readHeader();
+        checkSize(m_width, m_height, maxPixels, m_name, "HDR");
+        ImageFile image{Bitmap(Eigen::Vector2i(m_width, m_height)), false};
+        std::vector<uint8_t> line(static_cast<std::size_t>(m_width) * 4);
+        for (int y = 0; y < m_height; ++y) {
+            readScanline(line, y);
+            for (int x = 0; x < m_width; ++x)
+                image.pixels.coeffRef(y, x) = rgbeToColor(&line[4 * x]);
+        }
+        return image;
+    }
+
+private:
+    [[noreturn]] void fail(const std::string &what) const {
+        throw NoriException("HDR image '{}' is invalid: {} (at byte {})", m_name, what, m_offset);
+    }
+
+    uint8_t next() {
+        if (m_offset >= m_bytes.size())
+            fail("the file ends early (truncated)");
+        return static_cast<uint8_t>(m_bytes[m_offset++]);
+    }
+
+    std::string nextLine() {
+        const std::size_t end = m_bytes.find('\n', m_offset);
+        if (end == std::string::npos || end - m_offset > 4096)
+            fail("a header line is missing its end");
+        std::string line = m_bytes.substr(m_offset, end - m_offset);
+        m_offset = end + 1;
+        return line;
+    }
+
+    void readHeader() {
+        const std::string magic = nextLine();
+        if (magic != "#?RADIANCE" && magic != "#?RGBE")
+            fail("no '#?RADIANCE' signature");
+        for (;;) {
+            const std::string line = nextLine();
+            if (line.empty())
+                break;
+            if (line.rfind("FORMAT=", 0) == 0 && line != "FORMAT=32-bit_rle_rgbe")
+                fail("unsupported " + line + " (only 32-bit_rle_rgbe)");
+        }
+        const std::string resolution = nextLine();
+        char height[16], width[16];
+        long h = 0, w = 0;
+        if (std::sscanf(resolution.c_str(), "%15s %ld %15s %ld", height, &h, width, &w) != 4 ||
+            std::strcmp(height, "-Y") != 0 || std::strcmp(width, "+X") != 0)
+            fail("unsupported resolution line '" + resolution + "' (only '-Y h +X w')");
+        if (h < 1 || w < 1 || h > kMaxSide || w > kMaxSide)
+            checkSize(w, h, 0, m_name, "HDR");
+        m_width = static_cast<int>(w);
+        m_height = static_cast<int>(h);
+    }
+
+    void readScanline(std::vector<uint8_t> &line, int y) {
+        uint8_t first[4];
+        for (uint8_t &value : first)
+            value = next();
+        // New-style RLE: 2, 2, then the width in two bytes; only for widths 8..32767.
+        if (first[0] == 2 && first[1] == 2 && (first[2] & 0x80) == 0 && m_width >= 8 &&
+            m_width < 32768) {
+            if (((first[2] << 8) | first[3]) != m_width)
+                fail(fmt::format("scanline {} declares a width other than {}", y, m_width));
+            for (int channel = 0; channel < 4; ++channel)
+                for (int x = 0; x < m_width;) {
+                    int count = next();
+                    const bool run = count > 128;
+                    if (run)
+                        count -= 128;
+                    if (count == 0 || x + count > m_width)
+                        fail(fmt::format("a run of scanline {} overflows the line", y));
+                    const uint8_t value = run ? next() : 0;
+                    for (int i = 0; i < count; ++i, ++x)
+                        line[4 * x + channel] = run ? value : next();
+                }
+            return;
+        }
+        // Flat pixels, possibly with old-style runs (1, 1, 1, n: repeat the last pixel).
+        int x = 0, shift = 0;
+        for (bool firstPixel = true; x < m_width; firstPixel = false) {
+            uint8_t pixel[4];
+            for (int c = 0; c < 4; ++c)
+                pixel[c] = firstPixel ? first[c] : next();
+            if (pixel[0] == 1 && pixel[1] == 1 && pixel[2] == 1) {
+                if (x == 0 || shift > 24)
+                    fail(fmt::format("a bad old-style run in scanline {}", y));
+                const long count = static_cast<long>(pixel[3]) << shift;
+                if (x + count > m_width)
+                    fail(fmt::format("a run of scanline {} overflows the line", y));
+                for (long i = 0; i < count; ++i, ++x)
+                    std::copy_n(&line[4 * (x - 1)], 4, &line[4 * x]);
+                shift += 8;
+            } else {
+                std::copy_n(pixel, 4, &line[4 * x]);
+                ++x;
+                shift = 0;
+            }
+        }
+    }
+
+    /// Ward's decoding: (mantissa + 0.5) · 2^(exponent − 136); exponent 0 is black.
+    static Color3f rgbeToColor(const uint8_t *rgbe) {
+        if (rgbe[3] == 0)
+            return Color3f(0.0f);
+        const float scale = std::ldexp(1.0f, static_cast<int>(rgbe[3]) - 136);
+        return Color3f((rgbe[0] + 0.5f) * scale, (rgbe[1] + 0.5f) * scale,
+                       (rgbe[2] + 0.5f) * scale);
+    }
+
+    const std::string &m_bytes;
+    const std::string &m_name;
+    std::size_t m_offset = 0;
+    int m_width = 0, m_height = 0;
+};
+
+// ---------------------------------------------------------------------------------- EXR
+
+ImageFile decodeExr(const std::string &bytes, const std::string &name, std::size_t maxPixels) {
+    const auto *data = reinterpret_cast<const unsigned char *>(bytes.data());
+    auto failure = [&](const char *error, const char *fallback) {
+        std::string message = error ? error : fallback;
+        FreeEXRErrorMessage(error);
+        while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back())))
+            message.pop_back();
+        return NoriException("EXR image '{}' is invalid: {}", name, message);
+    };
+    EXRVersion version;
+    if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS)
+        throw failure(nullptr, "bad version field");
+    if (version.tiled || version.multipart || version.non_image)
+        throw NoriException("EXR image '{}': tiled, multi-part and deep EXR files are not "
+                            "supported; save it as a single-part scanline EXR",
+                            name);
+    EXRHeader header;
+    InitEXRHeader(&header);
+    struct HeaderGuard {
+        EXRHeader &header;
+        ~HeaderGuard() { FreeEXRHeader(&header); }
+    } headerGuard{header};
+    const char *error = nullptr;
+    if (ParseEXRHeaderFromMemory(&header, &version, data, bytes.size(), &error) != TINYEXR_SUCCESS)
+        throw failure(error, "bad header");
+    if (header.tiled)
+        throw NoriException("EXR image '{}': tiled EXR files are not supported", name);
+    const int64_t width = int64_t(header.data_window.max_x) - header.data_window.min_x + 1;
+    const int64_t height = int64_t(header.data_window.max_y) - header.data_window.min_y + 1;
+    checkSize(width, height, maxPixels, name, "EXR");
+    for (int c = 0; c < header.num_channels; ++c)
+        if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
+            header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+
+    EXRImage exr;
+    InitEXRImage(&exr);
+    const int status = LoadEXRImageFromMemory(&exr, &header, data, bytes.size(), &error);
+    // tinyexr 1.0.1 sets num_channels only on success, so FreeEXRImage leaks the channel
+    // buffers a failed decode allocated: free them here.
+    if (status != TINYEXR_SUCCESS && exr.images && exr.num_channels == 0) {
+        for (int c = 0; c < header.num_channels; ++c)
+            std::free(exr.images[c]);
+        std::free(exr.images);
+        exr.images = nullptr;
+    }
+    struct ImageGuard {
+        EXRImage &image;
+        ~ImageGuard() { FreeEXRImage(&image); }
+    } imageGuard{exr};
+    if (status != TINYEXR_SUCCESS)
+        throw failure(error, "bad pixel data");
+
+    // R, G, B by name; a single channel (Y or any other) is grey.
+    int channel[3] = {-1, -1, -1};
+    for (int c = 0; c < header.num_channels; ++c) {
+        const std::string channelName = header.channels[c].name;
+        const std::string suffix = channelName.substr(channelName.rfind('.') + 1);
+        for (int k = 0; k < 3; ++k)
+            if (suffix == std::string(1, "RGB"[k]) && channel[k] < 0)
+                channel[k] = c;
+    }
+    if (channel[0] < 0 || channel[1] < 0 || channel[2] < 0) {
+        if (header.num_channels != 1)
+            throw NoriException("EXR image '{}' has no R, G and B channels (and is not a "
+                                "one-channel grey image)",
+                                name);
+        channel[0] = channel[1] = channel[2] = 0;
+    }
+    ImageFile image{Bitmap(Eigen::Vector2i(exr.width, exr.height)), false};
+    for (int k = 0; k < 3; ++k) {
+        const int c = channel[k];
+        for (int64_t i = 0; i < int64_t(exr.width) * exr.height; ++i) {
+            float value;
+            if (header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT)
+                value =
+                    static_cast<float>(reinterpret_cast<const unsigned int *>(exr.images[c])[i]);
+            else
+                value = reinterpret_cast<const float *>(exr.images[c])[i];
+            image.pixels.coeffRef(i / exr.width, i % exr.width)[k] = value;
+        }
+    }
+    return image;
+}
+
+} // namespace
+
+ImageFile decodeImageFile(const std::string &bytes, const std::string &name,
+                          std::size_t maxPixels) {
+    if (startsWith(bytes, "\x89PNG\r\n\x1a\n", 8))
+        return decodePng(bytes, name, maxPixels);
+    if (startsWith(bytes, "\xff\xd8\xff", 3))
+        return decodeJpeg(bytes, name, maxPixels);
+    if (startsWith(bytes, "\x76\x2f\x31\x01", 4))
+        return decodeExr(bytes, name, maxPixels);
+    if (startsWith(bytes, "#?", 2))
+        return HdrReader(bytes, name).decode(maxPixels);
+    throw NoriException("'{}' is not a PNG, JPEG, Radiance HDR or OpenEXR image (unknown "
+                        "signature)",
+                        name);
+}
+
+ImageFile readImageFile(const std::string &filename) {
+    return decodeImageFile(readBinaryFile(filename, "image file"), filename);
+}
+
+} // namespace nori
