@@ -3,6 +3,7 @@
 #pragma once
 
 #include <nori/chisquare.h>
+#include <nori/texture.h>
 
 namespace nori {
 
@@ -24,8 +25,10 @@ const std::vector<NamedWarp> &namedWarps();
 const NamedWarp &findWarp(const std::string &name);
 
 /// wo sampled by bsdf.sample() for the incident direction wi (local frame), against
-/// bsdf.pdf(). Discrete lobes and failed samples are not binned.
-SamplingRoutine bsdfRoutine(const BSDF &bsdf, const Vector3f &wi);
+/// bsdf.pdf(), at the texture lookup point `where`. Discrete lobes and failed samples are
+/// not binned.
+SamplingRoutine bsdfRoutine(const BSDF &bsdf, const Vector3f &wi,
+                            const TextureQuery &where = TextureQuery());
 /// wo sampled by phase.sample() for wi, against phase.pdf().
 SamplingRoutine phaseRoutine(const PhaseFunction &phase, const Vector3f &wi);
 /// Directions toward the light sampled from `ref`, against emitter.pdf(), in a frame whose

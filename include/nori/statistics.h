@@ -45,6 +45,20 @@ ChiSquareResult pearsonChiSquareTest(const std::vector<double> &observed,
                                      const std::vector<double> &expected, double minExpFrequency,
                                      double significanceLevel);
 
+/// Mean and variance of a stream of values (Welford's algorithm).
+struct RunningMoments {
+    size_t count = 0;
+    double mean = 0.0, m2 = 0.0;
+    void add(double value) {
+        ++count;
+        const double delta = value - mean;
+        mean += delta / static_cast<double>(count);
+        m2 += delta * (value - mean);
+    }
+    /// The unbiased sample variance.
+    double variance() const { return count > 1 ? m2 / static_cast<double>(count - 1) : 0.0; }
+};
+
 struct StudentTResult {
     double t = 0.0;
     double pValue = 0.0;

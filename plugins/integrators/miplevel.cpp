@@ -21,7 +21,9 @@ namespace nori {
 
 class MipLevelIntegrator : public Integrator {
 public:
-    explicit MipLevelIntegrator(const PropertyList &props) { m_raw = props.getBoolean("raw", false); }
+    explicit MipLevelIntegrator(const PropertyList &props) {
+        m_raw = props.getBoolean("raw", false);
+    }
 
     Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const override {
         (void)sampler;
@@ -37,7 +39,9 @@ public:
         return Color3f(0.0f);
     }
 
-    std::string toString() const override { return fmt::format("MipLevelIntegrator[raw={}]", m_raw); }
+    std::string toString() const override {
+        return fmt::format("MipLevelIntegrator[raw={}]", m_raw);
+    }
 
 private:
     static Color3f ramp(float level) {

@@ -27,7 +27,7 @@ public:
             return Color3f(0.0f);
         Color3f radiance(0.0f);
         if (const Emitter *emitter = its.shape->getEmitter())
-            radiance += emitter->eval(EmitterQueryRecord(ray.o, its.p, its.geoFrame.n));
+            radiance += emitter->eval(EmitterQueryRecord(ray.o, its));
 
         const BSDF *bsdf = its.shape->getBSDF();
         const Vector3f wiLocal = its.toLocal(-ray.d);

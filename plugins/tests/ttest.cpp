@@ -96,19 +96,6 @@ public:
     }
 
 private:
-    /// Mean and variance of a stream of values (Welford's algorithm).
-    struct RunningMoments {
-        size_t count = 0;
-        double mean = 0.0, m2 = 0.0;
-        void add(double value) {
-            ++count;
-            const double delta = value - mean;
-            mean += delta / static_cast<double>(count);
-            m2 += delta * (value - mean);
-        }
-        double variance() const { return count > 1 ? m2 / static_cast<double>(count - 1) : 0.0; }
-    };
-
     StudentTResult testAlbedo(const BSDF &bsdf, float angle, double reference, double alpha) const {
         const float theta = degToRad(angle);
         const Vector3f wi(std::sin(theta), 0.0f, std::cos(theta));

@@ -155,7 +155,12 @@ void jpegError(j_common_ptr cinfo) {
     std::longjmp(errors->jump, 1);
 }
 
-void jpegSilence(j_common_ptr, int) {}
+/// libjpeg only warns about corrupt or truncated data (and fills the gaps with grey);
+/// a texture with made-up pixels is not what the user asked for, so warnings are errors.
+void jpegMessage(j_common_ptr cinfo, int level) {
+    if (level < 0)
+        jpegError(cinfo);
+}
 
 /// A progressive JPEG can hold thousands of tiny scans, each re-decoding the whole image:
 /// a few hundred bytes that take minutes. No real encoder writes more than a few dozen.
@@ -207,7 +212,7 @@ ImageFile decodeJpeg(const std::string &bytes, const std::string &name, std::siz
     JpegErrors errors;
     cinfo.err = jpeg_std_error(&errors.base);
     errors.base.error_exit = &jpegError;
-    errors.base.emit_message = &jpegSilence;
+    errors.base.emit_message = &jpegMessage;
     jpeg_progress_mgr progress;
     progress.progress_monitor = &jpegProgress;
     jpeg_create_decompress(&cinfo);
@@ -397,21 +402,17 @@ ImageFile decodeExr(const std::string &bytes, const std::string &name, std::size
 
     EXRImage exr;
     InitEXRImage(&exr);
-    const int status = LoadEXRImageFromMemory(&exr, &header, data, bytes.size(), &error);
-    // tinyexr 1.0.1 sets num_channels only on success, so FreeEXRImage leaks the channel
-    // buffers a failed decode allocated: free them here.
-    if (status != TINYEXR_SUCCESS && exr.images && exr.num_channels == 0) {
-        for (int c = 0; c < header.num_channels; ++c)
-            std::free(exr.images[c]);
-        std::free(exr.images);
-        exr.images = nullptr;
-    }
+    // tinyexr 1.0.1 sets num_channels only after a successful decode, and on a bad chunk
+    // calls FreeEXRImage, which then frees the channel array but not the channels (a
+    // leak) and leaves the array pointer dangling. Setting num_channels first makes that
+    // FreeEXRImage free the channels too; after a failure nothing is left to free.
+    exr.num_channels = header.num_channels;
+    if (LoadEXRImageFromMemory(&exr, &header, data, bytes.size(), &error) != TINYEXR_SUCCESS)
+        throw failure(error, "bad pixel data");
     struct ImageGuard {
         EXRImage &image;
         ~ImageGuard() { FreeEXRImage(&image); }
     } imageGuard{exr};
-    if (status != TINYEXR_SUCCESS)
-        throw failure(error, "bad pixel data");
 
     // R, G, B by name; a single channel (Y or any other) is grey.
     int channel[3] = {-1, -1, -1};

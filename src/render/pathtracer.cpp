@@ -14,7 +14,7 @@ Color3f emitted(const Intersection &its, const Point3f &origin) {
     const Emitter *emitter = its.shape->getEmitter();
     if (!emitter)
         return Color3f(0.0f);
-    EmitterQueryRecord lRec(origin, its.p, its.geoFrame.n);
+    const EmitterQueryRecord lRec(origin, its);
     return emitter->eval(lRec);
 }
 
@@ -78,7 +78,7 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
                 radiance += throughput * le;
             } else if (m_strategy == Strategy::MIS) {
                 const Emitter *emitter = its.shape->getEmitter();
-                EmitterQueryRecord lRec(previous, its.p, its.geoFrame.n);
+                const EmitterQueryRecord lRec(previous, its);
                 const float lightPdf = scene->emitterPmf(emitter) * emitter->pdf(lRec);
                 radiance += throughput * le * (bsdfPdf / (bsdfPdf + lightPdf));
             }

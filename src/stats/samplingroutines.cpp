@@ -117,18 +117,21 @@ const NamedWarp &findWarp(const std::string &name) {
                         fmt::join(names, ", "));
 }
 
-SamplingRoutine bsdfRoutine(const BSDF &bsdf, const Vector3f &wi) {
+SamplingRoutine bsdfRoutine(const BSDF &bsdf, const Vector3f &wi, const TextureQuery &where) {
     SamplingRoutine routine;
-    routine.sample = [&bsdf, wi](const Point2f &u, Vector3f &wo) {
+    routine.sample = [&bsdf, wi, where](const Point2f &u, Vector3f &wo) {
         BSDFQueryRecord bRec(wi);
+        static_cast<TextureQuery &>(bRec) = where;
         const Color3f weight = bsdf.sample(bRec, u);
         if ((weight == 0.0f).all() || bRec.measure == EDiscrete)
             return false;
         wo = bRec.wo;
         return true;
     };
-    routine.pdf = [&bsdf, wi](const Vector3f &wo) {
-        return bsdf.pdf(BSDFQueryRecord(wi, wo, ESolidAngle));
+    routine.pdf = [&bsdf, wi, where](const Vector3f &wo) {
+        BSDFQueryRecord bRec(wi, wo, ESolidAngle);
+        static_cast<TextureQuery &>(bRec) = where;
+        return bsdf.pdf(bRec);
     };
     return routine;
 }
