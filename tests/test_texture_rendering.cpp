@@ -274,3 +274,35 @@ TEST_CASE("A textured roughness keeps the BSDF's chi-square test passing", "[tex
     options.seed += 1;
     CHECK_FALSE(runChiSquareTest(mixed, options).result.passed);
 }
+
+TEST_CASE("A bump map of a linear ramp tilts the shading normal like the slope it encodes",
+          "[texture][bumpmap]") {
+    TempDir dir;
+    // h(u) = u, sampled at texel centres: bilinear interpolation reproduces it exactly.
+    Bitmap ramp(Eigen::Vector2i(64, 4));
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 64; ++x)
+            ramp(y, x) = Color3f((x + 0.5f) / 64.0f);
+    ramp.saveEXR((dir.path() / "ramp.exr").string());
+    std::filesystem::copy(kSceneDirectory + "/meshes/floor.obj", dir.path() / "floor.obj");
+    for (float bumpScale : {0.5f, 1.0f, -2.0f}) {
+        CAPTURE(bumpScale);
+        auto scene = loadScene(fmt::format(R"(<scene> <integrator type="normals"/>
+            <camera type="perspective"><integer name="width" value="8"/><integer name="height" value="8"/></camera>
+            <mesh type="obj"><string name="filename" value="floor.obj"/>
+                <float name="bumpScale" value="{}"/>
+                <texture type="image" name="bump"><string name="filename" value="ramp.exr"/>
+                    <string name="filter" value="bilinear"/> <string name="wrap" value="clamp"/></texture>
+            </mesh></scene>)",
+                                           bumpScale),
+                               dir.path().string());
+        Intersection its;
+        REQUIRE(scene->rayIntersect(Ray3f(Point3f(0.1f, 1.0f, 0.2f), Vector3f(0.0f, -1.0f, 0.0f)),
+                                    its));
+        // floor.obj: dp/du = (2, 0, 0), dp/dv = (0, 0, −2). Displacing by s·h(u) along +y
+        // gives dp'/du = (2, s, 0), so n' ∝ dp'/du × dp/dv ∝ (−s, 2, 0).
+        const Vector3f expected = Vector3f(-bumpScale, 2.0f, 0.0f).normalized();
+        CHECK(its.shFrame.n.isApprox(expected, 1e-3f));
+        CHECK(its.geoFrame.n.isApprox(Vector3f(0.0f, 1.0f, 0.0f)));
+    }
+}

@@ -39,7 +39,7 @@ public:
             return radiance;
         BSDFQueryRecord bRec(its, wiLocal);
         const Color3f weight = bsdf->sample(bRec, sampler->next2D());
-        if ((weight == 0.0f).all())
+        if ((weight == 0.0f).all() || !its.sidesAgree(its.toWorld(bRec.wo)))
             return radiance;
         return radiance +
                weight * Li(scene, sampler, spawnScatteredRay(its, ray, bRec)) / kContinue;

@@ -45,7 +45,9 @@ Color3f sampleDirectLight(const Scene *scene, Sampler *sampler, const Intersecti
         return Color3f(0.0f);
     EmitterQueryRecord lRec(its.p);
     const Color3f radianceOverPdf = emitter->sample(lRec, sample);
-    if ((radianceOverPdf == 0.0f).all() || scene->rayIntersect(its.spawnRayTo(lRec.p)))
+    // Light from below the geometric surface cannot reach a shading normal bent toward it.
+    if ((radianceOverPdf == 0.0f).all() || !its.sidesAgree(lRec.wi) ||
+        scene->rayIntersect(its.spawnRayTo(lRec.p)))
         return Color3f(0.0f);
     const BSDFQueryRecord bRec(its, wiLocal, its.toLocal(lRec.wi), ESolidAngle);
     const Color3f f = bsdf.eval(bRec);
@@ -95,7 +97,7 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
 
         BSDFQueryRecord bRec(its, wiLocal);
         const Color3f weight = bsdf->sample(bRec, sampler->next2D());
-        if ((weight == 0.0f).all())
+        if ((weight == 0.0f).all() || !its.sidesAgree(its.toWorld(bRec.wo)))
             break;
         specularBounce = bRec.measure == EDiscrete || !bsdf->isDiffuse();
         bsdfPdf = bRec.measure == EDiscrete ? 0.0f : bsdf->pdf(bRec);
