@@ -48,21 +48,26 @@ RunningMoments estimate(Scene &scene, size_t count) {
     return moments;
 }
 
+/// A square perspective camera on the +z axis at `distance`, looking at the origin.
+std::string cameraOnZAxis(float fov, int size, float distance) {
+    return fmt::format(R"(<camera type="perspective"><float name="fov" value="{}"/>
+            <integer name="width" value="{}"/> <integer name="height" value="{}"/>
+            <transform name="toWorld"><lookat origin="0, 0, {}" target="0, 0, 0" up="0, 1, 0"/></transform>
+        </camera>)",
+                       fov, size, size, distance);
+}
+
 } // namespace
 
 TEST_CASE("A plane seen head-on at distance d has du/dx = 2 d tan(fov/2) / (width · size)",
           "[texture][differentials]") {
     const float d = 5.0f, fov = 40.0f, scale = 3.0f;
     const int width = 64;
-    auto scene = loadScene(fmt::format(R"(<scene> <integrator type="normals"/>
-        <camera type="perspective"><float name="fov" value="{}"/>
-            <integer name="width" value="{}"/> <integer name="height" value="{}"/>
-            <transform name="toWorld"><lookat origin="0, 0, {}" target="0, 0, 0" up="0, 1, 0"/></transform>
-        </camera>
+    auto scene = loadScene(fmt::format(R"(<scene> <integrator type="normals"/> {}
         <mesh type="obj"><string name="filename" value="meshes/floor.obj"/>
             <transform name="toWorld"><rotate axis="1, 0, 0" angle="90"/><scale value="{}"/></transform>
         </mesh></scene>)",
-                                       fov, width, width, d, scale),
+                                       cameraOnZAxis(fov, width, d), scale),
                            kSceneDirectory);
     // The plane spans 2·scale and its uv span [0, 1]: one pixel covers this much of u.
     const float expected = 2.0f * d * std::tan(degToRad(fov / 2.0f)) / (width * 2.0f * scale);
@@ -93,11 +98,7 @@ TEST_CASE("A flat mirror carries the footprint: the plane seen in it at d1 + d2 
           "[texture][differentials]") {
     const float fov = 30.0f;
     auto footprint = [&](const std::string &mirror, float planeZ) {
-        auto scene = loadScene(fmt::format(R"(<scene> <integrator type="normals"/>
-            <camera type="perspective"><float name="fov" value="{}"/>
-                <integer name="width" value="32"/> <integer name="height" value="32"/>
-                <transform name="toWorld"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
-            </camera>
+        auto scene = loadScene(fmt::format(R"(<scene> <integrator type="normals"/> {}
             {}
             <mesh type="obj"><string name="filename" value="meshes/floor.obj"/>
                 <transform name="toWorld"><rotate axis="1, 0, 0" angle="90"/><scale value="50"/>

@@ -26,8 +26,14 @@
  *   </bsdf>
  */
 #include <nori/proplist.h>
+#include <nori/strutil.h>
 #include <nori/texture.h>
 #include <nori/texturecache.h>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <vector>
 
 namespace nori {
 
@@ -107,35 +113,37 @@ private:
         return Vector2f(q.dudy * m_uvScale.x(), -q.dvdy * m_uvScale.y());
     }
 
+    /// The value of `choices` named `name`; an error listing the names otherwise.
+    template <typename T>
+    static T choose(const char *parameter, const std::string &name,
+                    std::initializer_list<std::pair<const char *, T>> choices) {
+        std::vector<std::string> names;
+        for (const auto &[choiceName, value] : choices) {
+            if (name == choiceName)
+                return value;
+            names.emplace_back(choiceName);
+        }
+        throw NoriException("image: unknown {} '{}'{} (use {})", parameter, name,
+                            didYouMean(name, names), fmt::join(names, ", "));
+    }
     static ColorSpace parseColorSpace(const std::string &name) {
-        if (name == "auto")
-            return ColorSpace::Auto;
-        if (name == "srgb")
-            return ColorSpace::SRGB;
-        if (name == "linear")
-            return ColorSpace::Linear;
-        throw NoriException("image: unknown colorSpace '{}' (use auto, srgb or linear)", name);
+        return choose<ColorSpace>("colorSpace", name,
+                                  {{"auto", ColorSpace::Auto},
+                                   {"srgb", ColorSpace::SRGB},
+                                   {"linear", ColorSpace::Linear}});
     }
     static MIPMap::Wrap parseWrap(const std::string &name) {
-        if (name == "repeat")
-            return MIPMap::Wrap::Repeat;
-        if (name == "clamp")
-            return MIPMap::Wrap::Clamp;
-        if (name == "mirror")
-            return MIPMap::Wrap::Mirror;
-        throw NoriException("image: unknown wrap '{}' (use repeat, clamp or mirror)", name);
+        return choose<MIPMap::Wrap>("wrap", name,
+                                    {{"repeat", MIPMap::Wrap::Repeat},
+                                     {"clamp", MIPMap::Wrap::Clamp},
+                                     {"mirror", MIPMap::Wrap::Mirror}});
     }
     static MIPMap::Filter parseFilter(const std::string &name) {
-        if (name == "nearest")
-            return MIPMap::Filter::Nearest;
-        if (name == "bilinear")
-            return MIPMap::Filter::Bilinear;
-        if (name == "trilinear")
-            return MIPMap::Filter::Trilinear;
-        if (name == "ewa")
-            return MIPMap::Filter::EWA;
-        throw NoriException("image: unknown filter '{}' (use nearest, bilinear, trilinear or ewa)",
-                            name);
+        return choose<MIPMap::Filter>("filter", name,
+                                      {{"nearest", MIPMap::Filter::Nearest},
+                                       {"bilinear", MIPMap::Filter::Bilinear},
+                                       {"trilinear", MIPMap::Filter::Trilinear},
+                                       {"ewa", MIPMap::Filter::EWA}});
     }
 
     std::string m_filename;
