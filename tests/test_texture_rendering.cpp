@@ -104,7 +104,7 @@ TEST_CASE("A flat mirror carries the footprint: the plane seen in it at d1 + d2 
                 <transform name="toWorld"><rotate axis="1, 0, 0" angle="90"/><scale value="50"/>
                     <translate value="0, 0, {}"/></transform>
             </mesh></scene>)",
-                                           fov, mirror, planeZ),
+                                           cameraOnZAxis(fov, 32, 4.0f), mirror, planeZ),
                                kSceneDirectory);
         Ray3f ray;
         scene->getCamera()->sampleRayDifferential(ray, Point2f(16.0f, 16.0f), Point2f(0.5f, 0.5f));
