@@ -307,3 +307,22 @@ TEST_CASE("A bump map of a linear ramp tilts the shading normal like the slope i
         CHECK(its.geoFrame.n.isApprox(Vector3f(0.0f, 1.0f, 0.0f)));
     }
 }
+
+TEST_CASE("Rays carry differentials only in scenes with footprint-filtered textures",
+          "[texture][differentials]") {
+    for (const auto &[filter, expected] :
+         {std::pair{"trilinear", true}, std::pair{"ewa", true}, std::pair{"nearest", false}}) {
+        CAPTURE(filter);
+        auto scene = std::dynamic_pointer_cast<Scene>(loadFromXML(
+            kSceneDirectory + "/textured.xml", LoadOptions(Defines{{"filter", filter}})));
+        REQUIRE(scene);
+        Ray3f ray;
+        scene->sampleCameraRay(ray, Point2f(320.0f, 200.0f), Point2f(0.5f, 0.5f));
+        CHECK(ray.hasDifferentials == expected);
+    }
+    auto cbox = std::dynamic_pointer_cast<Scene>(
+        loadFromXML(std::string(NORI_SOURCE_DIR) + "/scenes/cbox/cbox.xml"));
+    Ray3f ray;
+    cbox->sampleCameraRay(ray, Point2f(10.0f, 10.0f), Point2f(0.5f, 0.5f));
+    CHECK_FALSE(ray.hasDifferentials);
+}

@@ -79,6 +79,9 @@ public:
     /// computes the pixel footprint from the ray's differentials, then perturbs the
     /// shading frame by the normal map or bump map, if any.
     void completeHit(const Ray3f &ray, Intersection &its) const;
+    /// Whether a texture of the shape (its maps, its BSDF's or its light's) is filtered
+    /// over the pixel footprint, so rays hitting it need differentials.
+    bool usesFootprint() const;
     /// uv as textures see them (scaled by uvScale), for points that did not come from a
     /// ray hit (a sampled point of an area light).
     Point2f textureUV(const Point2f &uv) const { return uv.cwiseProduct(m_uvScale); }

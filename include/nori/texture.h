@@ -46,6 +46,9 @@ public:
         (void)q;
         return -1.0f;
     }
+    /// Whether a lookup depends on the query's footprint (filtered textures): when no
+    /// texture of a scene does, rays skip their differentials.
+    virtual bool usesFootprint() const { return false; }
     /// Whether the texture is the same everywhere (a constant).
     virtual bool isConstant() const { return false; }
     /// The same texture reading 8-bit files as linear data rather than sRGB, for slots

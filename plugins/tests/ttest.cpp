@@ -122,7 +122,7 @@ private:
             const Point2f film = sampler->next2D();
             const Point2f pixel(film.x() * size.x(), film.y() * size.y());
             Ray3f ray;
-            Color3f value = camera->sampleRayDifferential(ray, pixel, sampler->next2D());
+            Color3f value = scene.sampleCameraRay(ray, pixel, sampler->next2D());
             value *= scene.getIntegrator()->Li(&scene, sampler.get(), ray);
             moments.add(value.getLuminance());
         }

@@ -53,6 +53,7 @@ public:
     }
 
     Color3f average() const override { return 0.5f * (m_color0 + m_color1); }
+    bool usesFootprint() const override { return true; }
 
     std::string toString() const override {
         return fmt::format("Checkerboard[color0=({}, {}, {}), color1=({}, {}, {}), scale={}]",

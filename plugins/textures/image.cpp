@@ -74,6 +74,10 @@ public:
 
     Color3f average() const override { return m_mipmap->average(); }
 
+    bool usesFootprint() const override {
+        return m_filter == MIPMap::Filter::Trilinear || m_filter == MIPMap::Filter::EWA;
+    }
+
     float mipLevel(const TextureQuery &q) const override {
         switch (m_filter) {
         case MIPMap::Filter::Trilinear:

@@ -63,6 +63,18 @@ Frame frameAround(const Vector3f &n, const Vector3f &tangent) {
 
 } // namespace
 
+bool Shape::usesFootprint() const {
+    auto anyFiltered = [](const TextureParameters &parameters) {
+        for (const auto &texture : parameters.all())
+            if (texture->usesFootprint())
+                return true;
+        return false;
+    };
+    return m_bumpMap || (m_normalMap && m_normalMap->usesFootprint()) ||
+           (m_bsdf && anyFiltered(m_bsdf->textures())) ||
+           (m_emitter && anyFiltered(m_emitter->textures()));
+}
+
 void Shape::completeHit(const Ray3f &ray, Intersection &its) const {
     if (m_uvScale != Vector2f(1.0f, 1.0f)) {
         // u' = su·u: dp/du' = (dp/du)/su, and likewise for v and the normal's derivatives.

@@ -37,7 +37,6 @@ bool isCancelled(const RenderOptions &options) {
 /// Renders one block; returns false when cancelled part-way (the block is discarded).
 bool renderBlock(const Scene &scene, Sampler &sampler, ImageBlock &block,
                  const RenderOptions &options, size_t &invalidSamples) {
-    const Camera *camera = scene.getCamera();
     const Integrator *integrator = scene.getIntegrator();
     const Point2i &offset = block.getOffset();
     const Vector2i &size = block.getSize();
@@ -56,7 +55,7 @@ bool renderBlock(const Scene &scene, Sampler &sampler, ImageBlock &block,
                 Point2f pixelSample = pixel.cast<float>() + sampler.next2D();
                 Point2f apertureSample = sampler.next2D();
                 Ray3f ray;
-                Color3f value = camera->sampleRayDifferential(ray, pixelSample, apertureSample);
+                Color3f value = scene.sampleCameraRay(ray, pixelSample, apertureSample);
                 value *= integrator->Li(&scene, &sampler, ray);
                 if (value.isValid())
                     block.put(pixelSample, value);

@@ -1,3 +1,4 @@
+#include <nori/camera.h>
 #include <nori/mesh.h>
 #include <nori/scene.h>
 
@@ -16,6 +17,13 @@ Scene::Scene(const PropertyList &props) : m_rayCounter(std::make_unique<RayCount
 }
 
 Scene::~Scene() = default;
+
+Color3f Scene::sampleCameraRay(Ray3f &ray, const Point2f &samplePosition,
+                               const Point2f &apertureSample) const {
+    return m_needsRayDifferentials
+               ? m_camera->sampleRayDifferential(ray, samplePosition, apertureSample)
+               : m_camera->sampleRay(ray, samplePosition, apertureSample);
+}
 
 bool Scene::rayIntersect(const Ray3f &ray, Intersection &its) const {
     ++m_rayCounter->perThread.local();
@@ -83,6 +91,7 @@ void Scene::activate() {
         m_sampler = createDefault<Sampler>("independent");
     for (const auto &shape : m_shapes) {
         m_accel.addShape(shape.get());
+        m_needsRayDifferentials = m_needsRayDifferentials || shape->usesFootprint();
         if (shape->getEmitterPtr())
             m_emitters.push_back(shape->getEmitterPtr());
     }
