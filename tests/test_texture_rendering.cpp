@@ -326,3 +326,32 @@ TEST_CASE("Rays carry differentials only in scenes with footprint-filtered textu
     cbox->sampleCameraRay(ray, Point2f(10.0f, 10.0f), Point2f(0.5f, 0.5f));
     CHECK_FALSE(ray.hasDifferentials);
 }
+
+TEST_CASE("miplevel shows the level of a head-on plane: log2 of 2 texels per pixel step",
+          "[texture][mipmap][differentials]") {
+    TempDir dir;
+    Bitmap image(Eigen::Vector2i(256, 256));
+    image.setConstant(Color3f(0.5f));
+    image.saveEXR((dir.path() / "grey.exr").string());
+    std::filesystem::copy(kSceneDirectory + "/meshes/floor.obj", dir.path() / "floor.obj");
+    const float d = 5.0f, fov = 40.0f, scale = 2.0f;
+    const int width = 32;
+    auto scene = loadScene(
+        fmt::format(
+            R"(<scene> <integrator type="miplevel"><boolean name="raw" value="true"/></integrator>
+        {} <mesh type="obj"><string name="filename" value="floor.obj"/>
+            <transform name="toWorld"><rotate axis="1, 0, 0" angle="90"/><scale value="{}"/></transform>
+            <bsdf type="diffuse"><texture type="image" name="albedo">
+                <string name="filename" value="grey.exr"/></texture></bsdf>
+        </mesh></scene>)",
+            cameraOnZAxis(fov, width, d), scale),
+        dir.path().string());
+    // du/dx per pixel (see the head-on test) times 256 texels, doubled (pbrt-v3 §10.4.3).
+    const float dudx = 2.0f * d * std::tan(degToRad(fov / 2.0f)) / (width * 2.0f * scale);
+    const float expected = std::log2(2.0f * dudx * 256.0f);
+    REQUIRE(expected > 1.0f);
+    Ray3f ray;
+    scene->sampleCameraRay(ray, Point2f(16.0f, 16.0f), Point2f(0.5f, 0.5f));
+    const Color3f level = scene->getIntegrator()->Li(scene.get(), nullptr, ray);
+    CHECK(level.r() == Approx(expected).epsilon(1e-3));
+}
