@@ -134,7 +134,7 @@ ImageFile decodePng(const std::string &bytes, const std::string &name, std::size
     for (png_uint_32 y = 0; y < layout.height; ++y)
         for (png_uint_32 x = 0; x < layout.width; ++x)
             for (int c = 0; c < 3; ++c) {
-                const png_byte *sample = rows[y] + (3 * x + c) * bytesPerSample;
+                const png_byte *sample = rows[y] + (3 * std::size_t(x) + c) * bytesPerSample;
                 const int value = bytesPerSample == 2 ? (sample[0] << 8) | sample[1] : sample[0];
                 image.pixels.coeffRef(y, x)[c] = value * scale;
             }
@@ -255,7 +255,7 @@ public:
         for (int y = 0; y < m_height; ++y) {
             readScanline(line, y);
             for (int x = 0; x < m_width; ++x)
-                image.pixels.coeffRef(y, x) = rgbeToColor(&line[4 * x]);
+                image.pixels.coeffRef(y, x) = rgbeToColor(&line[4 * std::size_t(x)]);
         }
         return image;
     }
@@ -322,7 +322,7 @@ private:
                         fail(fmt::format("a run of scanline {} overflows the line", y));
                     const uint8_t value = run ? next() : 0;
                     for (int i = 0; i < count; ++i, ++x)
-                        line[4 * x + channel] = run ? value : next();
+                        line[4 * std::size_t(x) + channel] = run ? value : next();
                 }
             return;
         }
@@ -339,10 +339,10 @@ private:
                 if (x + count > m_width)
                     fail(fmt::format("a run of scanline {} overflows the line", y));
                 for (long i = 0; i < count; ++i, ++x)
-                    std::copy_n(&line[4 * (x - 1)], 4, &line[4 * x]);
+                    std::copy_n(&line[4 * std::size_t(x - 1)], 4, &line[4 * std::size_t(x)]);
                 shift += 8;
             } else {
-                std::copy_n(pixel, 4, &line[4 * x]);
+                std::copy_n(pixel, 4, &line[4 * std::size_t(x)]);
                 ++x;
                 shift = 0;
             }

@@ -201,7 +201,7 @@ Color3f MIPMap::ewa(const Point2f &stIn, Vector2f dst0, Vector2f dst1, float max
     if (lower >= levels() - 1)
         return texel(levels() - 1, 0, 0, wrap);
     const float blend = level - lower;
-    const Color3f low = ewaOnLevel(lower, st, dst0, dst1, wrap);
+    Color3f low = ewaOnLevel(lower, st, dst0, dst1, wrap);
     if (blend == 0.0f || lower + 1 >= levels())
         return low;
     return (1.0f - blend) * low + blend * ewaOnLevel(lower + 1, st, dst0, dst1, wrap);
