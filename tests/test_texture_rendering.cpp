@@ -32,22 +32,6 @@ std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &dire
     return scene;
 }
 
-/// Mean and variance of the luminance of `count` camera samples of a 1×1 image.
-RunningMoments estimate(Scene &scene, size_t count) {
-    scene.getIntegrator()->preprocess(&scene);
-    std::unique_ptr<Sampler> sampler = scene.getSampler()->clone();
-    RunningMoments moments;
-    for (size_t i = 0; i < count; ++i) {
-        sampler->generate(Point2i(static_cast<int>(i % 4096), static_cast<int>(i / 4096)));
-        Ray3f ray;
-        const Point2f film = sampler->next2D();
-        Color3f value = scene.getCamera()->sampleRayDifferential(ray, film, sampler->next2D());
-        value *= scene.getIntegrator()->Li(&scene, sampler.get(), ray);
-        moments.add(value.getLuminance());
-    }
-    return moments;
-}
-
 /// A square perspective camera on the +z axis at `distance`, looking at the origin.
 std::string cameraOnZAxis(float fov, int size, float distance) {
     return fmt::format(R"(<camera type="perspective"><float name="fov" value="{}"/>
@@ -171,9 +155,9 @@ TEST_CASE("A normal map of one tilted normal shades like the tilted geometry (t-
     const double reference = albedo * L * (r / d) * (r / d) * n.dot(light / d);
 
     const size_t samples = 40000;
-    const RunningMoments geometry = estimate(*scene(tilted), samples);
-    const RunningMoments mapped = estimate(*scene(normalMapped(tilt)), samples);
-    const RunningMoments wrong = estimate(*scene(normalMapped(tilt + 5.0f)), samples);
+    const RunningMoments geometry = estimatePixel(*scene(tilted), samples);
+    const RunningMoments mapped = estimatePixel(*scene(normalMapped(tilt)), samples);
+    const RunningMoments wrong = estimatePixel(*scene(normalMapped(tilt + 5.0f)), samples);
     const double alpha = 0.01;
     const StudentTResult g =
         studentTTest(geometry.mean, geometry.variance(), samples, reference, alpha);

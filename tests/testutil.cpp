@@ -1,5 +1,9 @@
 #include "testutil.h"
 
+#include <nori/camera.h>
+#include <nori/integrator.h>
+#include <nori/sampler.h>
+
 #include <csignal>
 #include <fstream>
 #include <random>
@@ -69,6 +73,23 @@ ProcessResult runNori(const std::vector<std::string> &arguments,
     waitpid(pid, &status, 0);
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return result;
+}
+
+RunningMoments estimatePixel(Scene &scene, size_t count) {
+    scene.getIntegrator()->preprocess(&scene);
+    std::unique_ptr<Sampler> sampler = scene.getSampler()->clone();
+    const Vector2i size = scene.getCamera()->getOutputSize();
+    RunningMoments moments;
+    for (size_t i = 0; i < count; ++i) {
+        sampler->generate(Point2i(static_cast<int>(i % 4096), static_cast<int>(i / 4096)));
+        const Point2f film = sampler->next2D();
+        Ray3f ray;
+        Color3f value = scene.sampleCameraRay(
+            ray, Point2f(film.x() * size.x(), film.y() * size.y()), sampler->next2D());
+        value *= scene.getIntegrator()->Li(&scene, sampler.get(), ray);
+        moments.add(value.getLuminance());
+    }
+    return moments;
 }
 
 } // namespace nori::testing

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <nori/object.h>
+#include <nori/scene.h>
+#include <nori/statistics.h>
 
 #include <filesystem>
 #include <string>
@@ -34,6 +36,10 @@ struct ProcessResult {
 /// once that text has appeared in the output.
 ProcessResult runNori(const std::vector<std::string> &arguments,
                       const std::string &interruptAfter = "");
+
+/// Mean and variance of the luminance of `count` samples of the scene's camera through
+/// its integrator (for 1×1 images whose pixel is one estimate), with independent samples.
+RunningMoments estimatePixel(Scene &scene, size_t count);
 
 /// The message of the NoriException thrown by f, or "" if none was thrown.
 template <typename F> std::string errorOf(F &&f) {

@@ -2,6 +2,7 @@
 // toward the light.
 #pragma once
 
+#include <nori/bbox.h>
 #include <nori/color.h>
 #include <nori/object.h>
 #include <nori/ray.h>
@@ -54,6 +55,10 @@ public:
     /// Total emitted power (flux); the scene picks lights in proportion to its luminance.
     virtual Color3f getPower() const = 0;
 
+    /// Tells the light the bounds of the scene it lights, before getPower() is asked:
+    /// lights at infinity (directional, environment) need the scene's bounding sphere.
+    virtual void setSceneBounds(const BoundingBox3f &bounds) { (void)bounds; }
+
     /// The shape an area light is attached to, or nullptr.
     const Shape *getShape() const { return m_shape; }
     void setShape(const Shape *shape) { m_shape = shape; }
@@ -64,6 +69,12 @@ public:
     EClassType getClassType() const override { return kClassType; }
 
 protected:
+    /// Reads a delta light's `intensity` (W/sr) or `power` (W), exactly one of them, and
+    /// returns the intensity: power / solidAngle, where solidAngle = ∫ of the light's
+    /// angular profile over the sphere (4π for a point light).
+    static Color3f readIntensity(const PropertyList &props, const std::string &plugin,
+                                 float solidAngle);
+
     const Shape *m_shape = nullptr;
     /// Read every colour and float parameter through this (see BSDF::m_textures).
     TextureParameters m_textures;

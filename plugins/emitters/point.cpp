@@ -18,13 +18,7 @@ class PointLight : public Emitter {
 public:
     explicit PointLight(const PropertyList &props) {
         m_position = props.getPoint("position", Point3f(0.0f));
-        const bool hasPower = props.has("power"), hasIntensity = props.has("intensity");
-        if (hasPower == hasIntensity)
-            throw NoriException("point: give exactly one of 'power' and 'intensity'");
-        m_intensity =
-            hasPower ? Color3f(props.getColor("power") * kInvFourPi) : props.getColor("intensity");
-        if ((m_intensity < 0.0f).any())
-            throw NoriException("point: power and intensity must not be negative");
+        m_intensity = readIntensity(props, "point", 4.0f * kPi);
     }
 
     Color3f sample(EmitterQueryRecord &lRec, const Point2f &) const override {

@@ -100,6 +100,8 @@ void Scene::activate() {
     m_buildSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
+    for (const auto &emitter : m_emitters)
+        emitter->setSceneBounds(m_accel.getBoundingBox());
     // Lights are chosen in proportion to their power; if all are dark, uniformly.
     m_emitterPdf.clear();
     float totalPower = 0.0f;

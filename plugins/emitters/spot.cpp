@@ -1,0 +1,115 @@
+/*
+ * spot — a point light that shines into a cone: full intensity I within beamWidth of
+ * its axis, falling off smoothly to zero at cutoffAngle, I(θ) = I·smoothstep(cos
+ * cutoffAngle, cos beamWidth, cos θ) as pbrt-v4 defines it (PBR 4th ed. §12.1.1). Its
+ * power is Φ = 2π I [(1 − cos beamWidth) + (cos beamWidth − cos cutoffAngle)/2] (the
+ * smoothstep averages ½ over the ring). A delta light: BSDF-sampled rays never hit it.
+ *
+ * Parameters:
+ *   position     point      (0, 0, 0)  where the light is
+ *   target       point      —          a point on its axis (default: along +z)
+ *   toWorld      transform  —          instead of position and target: the light sits at
+ *                                      the origin of this frame and shines along its +z
+ *   intensity    color      —          radiant intensity I on the axis (W/sr) ...
+ *   power        color      —          ... or the emitted power Φ (W): exactly one
+ *   cutoffAngle  float      30         half-angle (degrees) where the light stops
+ *   beamWidth    float      20         half-angle (degrees) of full intensity, at most
+ *                                      cutoffAngle
+ *
+ *   <emitter type="spot"><point name="position" value="0, 3, 0"/>
+ *       <point name="target" value="0, 0, 0"/> <color name="intensity" value="20"/>
+ *       <float name="cutoffAngle" value="25"/> <float name="beamWidth" value="15"/></emitter>
+ */
+#include <nori/emitter.h>
+#include <nori/frame.h>
+#include <nori/proplist.h>
+#include <nori/transform.h>
+
+namespace nori {
+
+class SpotLight : public Emitter {
+public:
+    explicit SpotLight(const PropertyList &props) {
+        m_cutoffAngle = props.getFloat("cutoffAngle", 30.0f);
+        m_beamWidth = props.getFloat("beamWidth", 20.0f);
+        if (!(m_cutoffAngle > 0.0f && m_cutoffAngle <= 180.0f))
+            throw NoriException("spot: 'cutoffAngle' must be in (0, 180] degrees, got {}",
+                                m_cutoffAngle);
+        if (!(m_beamWidth >= 0.0f && m_beamWidth <= m_cutoffAngle))
+            throw NoriException("spot: 'beamWidth' must be in [0, cutoffAngle = {}] degrees, "
+                                "got {}",
+                                m_cutoffAngle, m_beamWidth);
+        m_cosCutoff = std::cos(degToRad(m_cutoffAngle));
+        m_cosBeam = std::cos(degToRad(m_beamWidth));
+        m_intensity = readIntensity(props, "spot", solidAngle());
+
+        if (props.has("toWorld")) {
+            if (props.has("position") || props.has("target"))
+                throw NoriException("spot: give 'toWorld' or 'position' and 'target', not both");
+            const Transform toWorld = props.getTransform("toWorld");
+            m_position = toWorld * Point3f(0.0f, 0.0f, 0.0f);
+            m_axis = Vector3f(toWorld * Vector3f(0.0f, 0.0f, 1.0f)).normalized();
+        } else {
+            m_position = props.getPoint("position", Point3f(0.0f));
+            const Point3f target =
+                props.getPoint("target", m_position + Vector3f(0.0f, 0.0f, 1.0f));
+            const Vector3f axis = target - m_position;
+            if (!(axis.norm() > 0.0f) || !axis.allFinite())
+                throw NoriException("spot: 'target' must differ from 'position'");
+            m_axis = axis.normalized();
+        }
+    }
+
+    Color3f sample(EmitterQueryRecord &lRec, const Point2f &) const override {
+        lRec.p = m_position;
+        const Vector3f toLight = m_position - lRec.ref;
+        const float distanceSquared = toLight.squaredNorm();
+        if (distanceSquared == 0.0f)
+            return Color3f(0.0f);
+        const float distance = std::sqrt(distanceSquared);
+        lRec.wi = toLight / distance;
+        lRec.n = Normal3f(-lRec.wi);
+        lRec.pdf = 1.0f; // a delta distribution, as for a point light
+        lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance * (1.0f - kShadowEpsilon));
+        return m_intensity * (falloff(m_axis.dot(-lRec.wi)) / distanceSquared);
+    }
+
+    Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }
+    float pdf(const EmitterQueryRecord &) const override { return 0.0f; }
+    bool isDelta() const override { return true; }
+    Color3f getPower() const override { return m_intensity * solidAngle(); }
+
+    std::string toString() const override {
+        return fmt::format("SpotLight[position=({}, {}, {}), axis=({}, {}, {}), intensity=({}, "
+                           "{}, {}), cutoffAngle={}, beamWidth={}]",
+                           m_position.x(), m_position.y(), m_position.z(), m_axis.x(), m_axis.y(),
+                           m_axis.z(), m_intensity.r(), m_intensity.g(), m_intensity.b(),
+                           m_cutoffAngle, m_beamWidth);
+    }
+
+private:
+    /// smoothstep(cos cutoff, cos beam, cos θ): 0 outside the cone, 1 inside the beam.
+    float falloff(float cosTheta) const {
+        if (cosTheta >= m_cosBeam)
+            return 1.0f;
+        if (cosTheta <= m_cosCutoff)
+            return 0.0f;
+        const float t = (cosTheta - m_cosCutoff) / (m_cosBeam - m_cosCutoff);
+        return t * t * (3.0f - 2.0f * t);
+    }
+
+    /// ∫ falloff dω = 2π [(1 − cos beam) + (cos beam − cos cutoff)/2]: smoothstep(t) +
+    /// smoothstep(1 − t) = 1, so the ring contributes half its solid angle.
+    float solidAngle() const {
+        return 2.0f * kPi * ((1.0f - m_cosBeam) + 0.5f * (m_cosBeam - m_cosCutoff));
+    }
+
+    Point3f m_position;
+    Vector3f m_axis;
+    Color3f m_intensity;
+    float m_cutoffAngle, m_beamWidth, m_cosCutoff, m_cosBeam;
+};
+
+NORI_REGISTER_CLASS(SpotLight, "spot");
+
+} // namespace nori

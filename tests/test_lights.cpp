@@ -1,0 +1,151 @@
+// Spot and directional lights against closed forms: a diffuse point lit by them has
+// radiance albedo/π · E · cos θ, E = I·falloff/d² (spot) or the given irradiance
+// (directional). t-tests for the integrators that see delta lights, and the spot's power
+// against the numerical integral of its intensity.
+#include "testutil.h"
+
+#include <nori/emitter.h>
+#include <nori/parser.h>
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+using namespace nori::testing;
+
+namespace {
+
+const std::string kMeshDirectory = std::string(NORI_SOURCE_DIR) + "/scenes/textured/meshes";
+
+/// A 1×1 camera looking at the origin of a large diffuse floor (albedo 0.5, normal +y),
+/// lit by `lights`, rendered by `integrator`.
+std::shared_ptr<Scene> litFloor(const std::string &lights, const std::string &integrator,
+                                const std::string &extra = "") {
+    auto scene = std::dynamic_pointer_cast<Scene>(
+        loadFromXMLString(fmt::format(R"(<scene> <integrator type="{}"/>
+            <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
+            <camera type="perspective"><float name="fov" value="0.001"/>
+                <integer name="width" value="1"/> <integer name="height" value="1"/>
+                <transform name="toWorld"><lookat origin="0.3, 2, 1" target="0, 0, 0" up="0, 1, 0"/></transform>
+            </camera>
+            <mesh type="obj"><string name="filename" value="floor.obj"/>
+                <transform name="toWorld"><scale value="10"/></transform>
+                <bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf></mesh>
+            {} {}</scene>)",
+                                      integrator, lights, extra),
+                          kMeshDirectory));
+    REQUIRE(scene);
+    return scene;
+}
+
+const char *kSpot = R"(<emitter type="spot"><point name="position" value="{}, 2, 0"/>
+    <point name="target" value="{}, 0, 0"/> <color name="intensity" value="{}"/>
+    <float name="cutoffAngle" value="30"/> <float name="beamWidth" value="20"/></emitter>)";
+
+/// The radiance of the floor's origin under the spot at (x, 2, 0) aimed at (targetX, 0, 0).
+double spotReference(float x, float targetX, float intensity) {
+    const Vector3f toOrigin = Vector3f(-x, -2.0f, 0.0f);
+    const Vector3f axis = Vector3f(targetX - x, -2.0f, 0.0f).normalized();
+    const float d2 = toOrigin.squaredNorm();
+    const float cosAxis = axis.dot(toOrigin.normalized());
+    const float cosBeam = std::cos(degToRad(20.0f)), cosCutoff = std::cos(degToRad(30.0f));
+    const float t = std::clamp((cosAxis - cosCutoff) / (cosBeam - cosCutoff), 0.0f, 1.0f);
+    const float falloff = t * t * (3.0f - 2.0f * t);
+    const float cosSurface = 2.0f / std::sqrt(d2);
+    return 0.5 * kInvPi * intensity * falloff / d2 * cosSurface;
+}
+
+void checkEstimate(Scene &scene, double reference, size_t samples = 2000) {
+    const RunningMoments moments = estimatePixel(scene, samples);
+    const StudentTResult result =
+        studentTTest(moments.mean, moments.variance(), moments.count, reference, 0.01);
+    INFO("estimate " << moments.mean << " (variance " << moments.variance() << "), reference "
+                     << reference << ", t = " << result.t);
+    CHECK(result.passed);
+    CHECK(moments.mean == Approx(reference).epsilon(0.02).margin(1e-6));
+}
+
+const std::vector<std::string> kDeltaLightIntegrators = {"direct_ems", "direct_mis", "path_ems",
+                                                         "path_mis", "whitted"};
+
+} // namespace
+
+TEST_CASE("A directional light gives a diffuse plane albedo/π · E · cos θ", "[lights]") {
+    // Light travelling along (−1, −2, −0.5): cos θ = 2/|d| on the floor.
+    const Vector3f direction(-1.0f, -2.0f, -0.5f);
+    const double reference = 0.5 * kInvPi * 3.0 * (2.0 / direction.norm());
+    const std::string light =
+        R"(<emitter type="directional"><vector name="direction" value="-1, -2, -0.5"/>
+        <color name="irradiance" value="3"/></emitter>)";
+    for (const std::string &integrator : kDeltaLightIntegrators) {
+        CAPTURE(integrator);
+        checkEstimate(*litFloor(light, integrator), reference);
+    }
+    // The control: the same estimate against a reference 3% off is rejected.
+    const RunningMoments moments = estimatePixel(*litFloor(light, "direct_ems"), 2000);
+    CHECK_FALSE(
+        studentTTest(moments.mean, moments.variance(), moments.count, 1.03 * reference, 0.01)
+            .passed);
+    // path_mats samples the BSDF only, and no ray ever hits a delta light.
+    CHECK(estimatePixel(*litFloor(light, "path_mats"), 100).mean == 0.0);
+    // A far occluder between the floor and the light: the shadow ray reaches past the scene.
+    const std::string blocker = R"(<mesh type="obj"><string name="filename" value="floor.obj"/>
+        <transform name="toWorld"><scale value="100"/><translate value="0, 50, 0"/></transform></mesh>)";
+    CHECK(estimatePixel(*litFloor(light, "direct_ems", blocker), 100).mean == 0.0);
+}
+
+TEST_CASE("A spot light: full inside the beam, smoothstep in the ring, dark outside", "[lights]") {
+    // The spot at (x, 2, 0) aims at (targetX, 0, 0); the origin is seen at an angle from
+    // its axis of 0° (inside the beam), ~25° (in the falloff ring) and ~35° (outside).
+    for (const auto &[x, targetX] :
+         {std::pair{1.0f, 0.0f}, std::pair{0.0f, 0.93f}, std::pair{0.0f, 1.4f}}) {
+        CAPTURE(x, targetX);
+        const double reference = spotReference(x, targetX, 40.0f);
+        for (const std::string &integrator : kDeltaLightIntegrators) {
+            CAPTURE(integrator);
+            checkEstimate(*litFloor(fmt::format(kSpot, x, targetX, 40), integrator), reference);
+        }
+    }
+    CHECK(spotReference(0.0f, 1.4f, 40.0f) == 0.0);
+    const double ring = spotReference(0.0f, 0.93f, 40.0f), full = spotReference(0.0f, 0.0f, 40.0f);
+    CHECK((ring > 0.05 * full && ring < 0.95 * full)); // the case really is in the ring
+}
+
+TEST_CASE("Two lights of very unequal power add up for every integrator that sees them",
+          "[lights]") {
+    const std::string lights =
+        fmt::format(kSpot, 1.0f, 0.0f, 2000) +
+        R"(<emitter type="directional"><vector name="direction" value="0, -1, 0"/>
+            <color name="irradiance" value="0.01"/></emitter>)";
+    const double reference = spotReference(1.0f, 0.0f, 2000.0f) + 0.5 * kInvPi * 0.01;
+    for (const std::string &integrator : kDeltaLightIntegrators) {
+        CAPTURE(integrator);
+        checkEstimate(*litFloor(lights, integrator), reference, 20000);
+    }
+}
+
+TEST_CASE("A spot light's power is the integral of its intensity over the sphere", "[lights]") {
+    for (const auto &[cutoff, beam] :
+         {std::pair{30.0f, 20.0f}, std::pair{60.0f, 0.0f}, std::pair{90.0f, 90.0f}}) {
+        CAPTURE(cutoff, beam);
+        auto spot = std::dynamic_pointer_cast<Emitter>(loadFromXMLString(fmt::format(
+            R"(<emitter type="spot"><color name="intensity" value="3"/>
+                <float name="cutoffAngle" value="{}"/> <float name="beamWidth" value="{}"/></emitter>)",
+            cutoff, beam)));
+        REQUIRE(spot);
+        // ∫ I(ω) dω by the midpoint rule in θ (the light is symmetric about its axis),
+        // reading I(θ) from the light itself: the irradiance at distance 1.
+        const int steps = 20000;
+        double integral = 0.0;
+        for (int i = 0; i < steps; ++i) {
+            const double theta = (i + 0.5) * kPi / steps;
+            EmitterQueryRecord lRec(Point3f(float(std::sin(theta)), 0.0f, float(std::cos(theta))));
+            const double intensity = spot->sample(lRec, Point2f(0.5f, 0.5f)).r();
+            integral += intensity * 2.0 * kPi * std::sin(theta) * (kPi / steps);
+        }
+        CHECK(spot->getPower().r() == Approx(integral).epsilon(1e-4));
+    }
+    // Given a power, the intensity follows: Φ = 3·(the solid angle) for the first light.
+    auto byPower = std::dynamic_pointer_cast<Emitter>(
+        loadFromXMLString(R"(<emitter type="spot"><color name="power" value="10"/></emitter>)"));
+    CHECK(byPower->getPower().r() == Approx(10.0f));
+}
