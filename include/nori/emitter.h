@@ -21,6 +21,10 @@ struct EmitterQueryRecord : TextureQuery {
     Vector3f wi;      ///< unit direction from ref toward p
     float pdf = 0.0f; ///< solid-angle density of wi at ref (for delta lights: 1)
     Ray3f shadowRay;  ///< from ref to p, for the visibility test
+    /// For a camera ray that escapes to an environment: how its direction changes per
+    /// pixel in x and y (from the ray differentials), for a filtered lookup. Zero
+    /// otherwise: the lookup then matches the sampling density exactly.
+    Vector3f dwdx = Vector3f::Zero(), dwdy = Vector3f::Zero();
     // Inherited from TextureQuery: p, the sampled (or queried) point on the emitter, and
     // its uv and footprint.
 
@@ -33,6 +37,14 @@ struct EmitterQueryRecord : TextureQuery {
     /// The light leaving a ray hit toward ref: p, n (geometric), uv and footprint.
     EmitterQueryRecord(const Point3f &ref, const Intersection &its)
         : TextureQuery(its), ref(ref), n(its.geoFrame.n), wi((its.p - ref).normalized()) {}
+    /// The light an escaping ray sees of an infinite emitter (environment).
+    explicit EmitterQueryRecord(const Ray3f &ray, bool filtered = false)
+        : ref(ray.o), wi(ray.d.normalized()) {
+        if (filtered && ray.hasDifferentials) {
+            dwdx = ray.rxDirection.normalized() - wi;
+            dwdy = ray.ryDirection.normalized() - wi;
+        }
+    }
 };
 
 class Emitter : public NoriObject {
@@ -49,6 +61,9 @@ public:
     virtual float pdf(const EmitterQueryRecord &lRec) const = 0;
     /// Lights with a delta distribution (point, spot, distant) cannot be hit by rays.
     virtual bool isDelta() const { return false; }
+    /// Lights at infinity (environment maps) are seen by rays that leave the scene:
+    /// eval() then takes a record made from the escaping ray.
+    virtual bool isInfinite() const { return false; }
     /// Whether the light must be nested in a shape (area lights); the scene rejects such
     /// a light at the top level.
     virtual bool requiresShape() const { return false; }

@@ -9,6 +9,8 @@
 namespace nori {
 
 class BSDF;
+class Emitter;
+struct EmitterQueryRecord;
 class Sampler;
 class Scene;
 struct Intersection;
@@ -36,6 +38,14 @@ public:
     std::string toString() const override;
 
 private:
+    /// The emission of `emitter` that a BSDF-sampled (or camera) ray found, weighted for
+    /// the strategy: all of it after a specular bounce or with BSDF sampling alone, none
+    /// with light sampling alone (next-event estimation counted it), and the balance
+    /// heuristic against light sampling with MIS.
+    Color3f foundEmission(const Scene *scene, const Emitter &emitter,
+                          const EmitterQueryRecord &lRec, bool specularBounce,
+                          float bsdfPdf) const;
+
     Strategy m_strategy;
     int m_maxDepth; ///< bounces after the camera ray; −1 for no limit
     int m_rrDepth;  ///< Russian roulette from this bounce on

@@ -31,6 +31,8 @@ public:
     /// Picks a light with probability proportional to its power (luminance); `u` is
     /// rescaled for reuse. nullptr when the scene has no light.
     const Emitter *sampleEmitter(float &u, float &pmf) const;
+    /// The lights at infinity, which rays that leave the scene see.
+    const std::vector<const Emitter *> &getInfiniteEmitters() const { return m_infiniteEmitters; }
     /// The probability that sampleEmitter picks `emitter`.
     float emitterPmf(const Emitter *emitter) const;
 
@@ -62,6 +64,7 @@ public:
 private:
     std::vector<std::shared_ptr<Shape>> m_shapes;
     std::vector<std::shared_ptr<Emitter>> m_emitters;
+    std::vector<const Emitter *> m_infiniteEmitters;
     DiscretePDF m_emitterPdf;
     std::unordered_map<const Emitter *, size_t> m_emitterIndex;
     std::shared_ptr<Integrator> m_integrator;

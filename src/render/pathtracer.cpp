@@ -7,19 +7,6 @@
 
 namespace nori {
 
-namespace {
-
-/// Radiance an area light emits from the hit point toward `origin` (0 if none).
-Color3f emitted(const Intersection &its, const Point3f &origin) {
-    const Emitter *emitter = its.shape->getEmitter();
-    if (!emitter)
-        return Color3f(0.0f);
-    const EmitterQueryRecord lRec(origin, its);
-    return emitter->eval(lRec);
-}
-
-} // namespace
-
 PathTracer::PathTracer(const PropertyList &props, Strategy strategy, int bounces, std::string name)
     : m_strategy(strategy), m_name(std::move(name)) {
     if (bounces > 0) {
@@ -70,21 +57,21 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
     Point3f previous = ray.o;
     for (int depth = 0;; ++depth) {
         Intersection its;
-        if (!scene->rayIntersect(ray, its))
+        if (!scene->rayIntersect(ray, its)) {
+            // The ray leaves the scene and sees the lights at infinity. Camera rays and
+            // specular chains (weight 1, no MIS) may use a filtered lookup; others must
+            // see exactly what the light's sampling density assumes.
+            for (const Emitter *emitter : scene->getInfiniteEmitters())
+                radiance += throughput * foundEmission(scene, *emitter,
+                                                       EmitterQueryRecord(ray, specularBounce),
+                                                       specularBounce, bsdfPdf);
             break;
-
-        // Emission found by this ray: counted unless light sampling already did.
-        const Color3f le = emitted(its, previous);
-        if (!(le == 0.0f).all()) {
-            if (specularBounce || m_strategy == Strategy::BSDF) {
-                radiance += throughput * le;
-            } else if (m_strategy == Strategy::MIS) {
-                const Emitter *emitter = its.shape->getEmitter();
-                const EmitterQueryRecord lRec(previous, its);
-                const float lightPdf = scene->emitterPmf(emitter) * emitter->pdf(lRec);
-                radiance += throughput * le * (bsdfPdf / (bsdfPdf + lightPdf));
-            }
         }
+        if (const Emitter *emitter = its.shape->getEmitter())
+            radiance += throughput * foundEmission(scene, *emitter,
+                                                   EmitterQueryRecord(previous, its),
+                                                   specularBounce, bsdfPdf);
+
         if (m_maxDepth > 0 && depth >= m_maxDepth)
             break;
 
@@ -114,6 +101,21 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
         }
     }
     return radiance;
+}
+
+Color3f PathTracer::foundEmission(const Scene *scene, const Emitter &emitter,
+                                  const EmitterQueryRecord &lRec, bool specularBounce,
+                                  float bsdfPdf) const {
+    if (specularBounce || m_strategy == Strategy::BSDF)
+        return emitter.eval(lRec);
+    if (m_strategy == Strategy::Light)
+        return Color3f(0.0f); // next-event estimation counted this light already
+    // The balance heuristic against light sampling, with the pmf sampleEmitter uses.
+    const Color3f le = emitter.eval(lRec);
+    if ((le == 0.0f).all())
+        return le;
+    const float lightPdf = scene->emitterPmf(&emitter) * emitter.pdf(lRec);
+    return le * (bsdfPdf / (bsdfPdf + lightPdf));
 }
 
 std::string PathTracer::toString() const {

@@ -100,8 +100,12 @@ void Scene::activate() {
     m_buildSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    for (const auto &emitter : m_emitters)
+    m_infiniteEmitters.clear();
+    for (const auto &emitter : m_emitters) {
         emitter->setSceneBounds(m_accel.getBoundingBox());
+        if (emitter->isInfinite())
+            m_infiniteEmitters.push_back(emitter.get());
+    }
     // Lights are chosen in proportion to their power; if all are dark, uniformly.
     m_emitterPdf.clear();
     float totalPower = 0.0f;
