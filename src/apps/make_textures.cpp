@@ -4,6 +4,8 @@
 //   bricks_normal.png  the matching tangent-space normal map (bevelled brick edges)
 //   bricks_height.png  the matching height map (for bump mapping)
 //   checker.png        256×256 black-and-white checkerboard of 8×8 cells
+//   sky.exr            256×128 lat-long environment (envmap's convention): a blue sky
+//                      brightening toward the horizon, a grey ground and a small sun
 #include <nori/bitmap.h>
 #include <nori/program.h>
 #include <nori/vector.h>
@@ -94,6 +96,36 @@ void writeTextures(const std::filesystem::path &directory) {
     asData(height).savePNG((directory / "bricks_height.png").string());
 }
 
+/// A procedural sky in envmap's lat-long convention (v = θ/π from +y, u = φ/2π): sky
+/// radiance rising from the zenith to the horizon, a dim ground, and a sun 4° across at
+/// 35° elevation whose radiance makes it give about three times the sky's irradiance.
+void writeSky(const std::filesystem::path &file) {
+    constexpr int width = 256, height = 128;
+    const float sunTheta = degToRad(90.0f - 35.0f), sunPhi = degToRad(60.0f);
+    const Vector3f sun(std::sin(sunPhi) * std::sin(sunTheta), std::cos(sunTheta),
+                       -std::cos(sunPhi) * std::sin(sunTheta));
+    const float sunCos = std::cos(degToRad(2.0f));
+    Bitmap sky(Eigen::Vector2i(width, height));
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const float theta = (y + 0.5f) * kPi / height, phi = (x + 0.5f) * 2.0f * kPi / width;
+            const Vector3f d(std::sin(phi) * std::sin(theta), std::cos(theta),
+                             -std::cos(phi) * std::sin(theta));
+            Color3f value;
+            if (d.y() < 0.0f) {
+                value = Color3f(0.12f, 0.1f, 0.08f); // ground
+            } else {
+                const float toHorizon = 1.0f - d.y(); // 0 at the zenith, 1 at the horizon
+                value = Color3f(0.25f, 0.45f, 0.95f) * (1.0f - toHorizon) +
+                        Color3f(0.85f, 0.9f, 1.0f) * toHorizon;
+            }
+            if (d.dot(sun) > sunCos)
+                value = Color3f(2600.0f, 2400.0f, 2000.0f);
+            sky(y, x) = value;
+        }
+    sky.saveEXR(file.string());
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -103,6 +135,7 @@ int main(int argc, char **argv) {
             return 2;
         }
         writeTextures(argv[1]);
+        writeSky(std::filesystem::path(argv[1]) / "sky.exr");
         return 0;
     });
 }

@@ -1,0 +1,157 @@
+/*
+ * envmap — an environment map: radiance arriving from infinitely far away, read from a
+ * latitude-longitude image (EXR or HDR; 8-bit images are sRGB-decoded). Mitsuba 3's
+ * convention: a texel's u = φ/2π and v = θ/π map to the direction
+ * (sin φ sin θ, cos θ, −cos φ sin θ) of the emitter's frame, +y is up and v = 0 is the
+ * top row. Directions are importance-sampled from the piecewise-constant density
+ * luminance × sin θ over texels (PBR 4th ed. §12.5.2), whose solid-angle density is
+ * p(u, v)/(2π² sin θ); the radiance of a direction is its texel's (so that it matches
+ * that density exactly), except for camera rays and specular chains, which see a
+ * trilinear MIP lookup over their ray differentials. Rays that leave the scene see it;
+ * its power is that through the disk of the scene's bounding sphere.
+ *
+ * Parameters:
+ *   filename  string     (required)  the lat-long image, relative to the scene file
+ *   scale     float      1           multiplies the radiance
+ *   toWorld   transform  identity    orientation of the map (rotations)
+ *
+ *   <emitter type="envmap">
+ *       <string name="filename" value="scenes/textured/textures/sky.exr"/>
+ *   </emitter>
+ */
+#include <nori/bbox.h>
+#include <nori/dpdf.h>
+#include <nori/emitter.h>
+#include <nori/proplist.h>
+#include <nori/texturecache.h>
+#include <nori/transform.h>
+
+namespace nori {
+
+class EnvironmentMap : public Emitter {
+public:
+    explicit EnvironmentMap(const PropertyList &props) {
+        m_filename = props.getPath("filename");
+        m_scale = props.getFloat("scale", 1.0f);
+        if (!(m_scale >= 0.0f) || !std::isfinite(m_scale))
+            throw NoriException("envmap: 'scale' must be finite and not negative, got {}",
+                                m_scale);
+        m_toWorld = props.getTransform("toWorld", Transform());
+        m_toLocal = m_toWorld.inverse();
+        m_mipmap = loadTextureImage(m_filename, ColorSpace::Auto);
+        buildDistribution();
+    }
+
+    bool isInfinite() const override { return true; }
+
+    void setSceneBounds(const BoundingBox3f &bounds) override {
+        if (bounds.isValid()) {
+            m_sceneCenter = bounds.getCenter();
+            m_sceneRadius = std::max(0.5f * (bounds.max - bounds.min).norm(), 1e-3f);
+        }
+    }
+
+    Color3f sample(EmitterQueryRecord &lRec, const Point2f &sample) const override {
+        float uvPdf;
+        const Point2f uv = m_distribution.sampleContinuous(sample, uvPdf);
+        const float theta = uv.y() * kPi, phi = uv.x() * 2.0f * kPi;
+        const float sinTheta = std::sin(theta);
+        if (uvPdf <= 0.0f || sinTheta <= 0.0f)
+            return Color3f(0.0f);
+        const Vector3f local(std::sin(phi) * sinTheta, std::cos(theta), -std::cos(phi) * sinTheta);
+        lRec.wi = Vector3f(m_toWorld * local).normalized();
+        lRec.pdf = uvPdf / (2.0f * kPi * kPi * sinTheta);
+        // A point beyond the scene's bounding sphere, for the shadow ray.
+        const float distance = (lRec.ref - m_sceneCenter).norm() + 2.0f * m_sceneRadius;
+        lRec.p = lRec.ref + distance * lRec.wi;
+        lRec.n = Normal3f(-lRec.wi);
+        lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance);
+        lRec.dwdx = lRec.dwdy = Vector3f::Zero();
+        return eval(lRec) / lRec.pdf;
+    }
+
+    Color3f eval(const EmitterQueryRecord &lRec) const override {
+        const Point2f uv = toUV(lRec.wi);
+        if (lRec.dwdx.isZero() && lRec.dwdy.isZero())
+            return m_scale * m_mipmap->nearest(uv, MIPMap::Wrap::Repeat);
+        // A filtered lookup over the footprint of the directions dw/dx, dw/dy (u wraps).
+        auto difference = [&](const Vector3f &dw) {
+            Vector2f d = toUV((lRec.wi + dw).normalized()) - uv;
+            d.x() -= std::round(d.x());
+            return d;
+        };
+        return m_scale * m_mipmap->trilinear(uv, difference(lRec.dwdx), difference(lRec.dwdy),
+                                             MIPMap::Wrap::Repeat);
+    }
+
+    float pdf(const EmitterQueryRecord &lRec) const override {
+        // sin θ from the horizontal components: accurate near the poles, where
+        // √(1 − cos²θ) loses its digits.
+        const Vector3f local = Vector3f(m_toLocal * lRec.wi).normalized();
+        const float sinTheta = std::hypot(local.x(), local.z());
+        if (sinTheta <= 0.0f)
+            return 0.0f;
+        return m_distribution.pdf(toUV(lRec.wi)) / (2.0f * kPi * kPi * sinTheta);
+    }
+
+    /// Φ = π r² ∫ L dω: the radiance of every direction crossing the disk of the scene's
+    /// bounding sphere, with ∫ L dω = Σ L·sin θ·(2π/W)(π/H) over texels.
+    Color3f getPower() const override {
+        return m_integral * (kPi * m_sceneRadius * m_sceneRadius);
+    }
+
+    std::string toString() const override {
+        const Bitmap &image = m_mipmap->level(0);
+        return fmt::format("EnvironmentMap[filename=\"{}\", {}x{}, scale={}]", m_filename,
+                           image.width(), image.height(), m_scale);
+    }
+
+private:
+    /// Texel-constant density over (u, v) ∝ luminance × sin θ at the texel's centre row.
+    void buildDistribution() {
+        const Bitmap &image = m_mipmap->level(0);
+        const int width = image.width(), height = image.height();
+        std::vector<float> weights(static_cast<size_t>(width) * height);
+        Color3f integral(0.0f);
+        double total = 0.0;
+        for (int y = 0; y < height; ++y) {
+            const float sinTheta = std::sin((y + 0.5f) * kPi / height);
+            for (int x = 0; x < width; ++x) {
+                const Color3f value = image(y, x).max(0.0f);
+                const float weight = value.getLuminance() * sinTheta;
+                weights[static_cast<size_t>(y) * width + x] = std::max(weight, 0.0f);
+                total += weights[static_cast<size_t>(y) * width + x];
+                integral += value * sinTheta;
+            }
+        }
+        // A black map: sample uniformly over (u, v) (it is never picked by power anyway).
+        if (!(total > 0.0))
+            std::fill(weights.begin(), weights.end(), 1.0f);
+        m_distribution = Distribution2D(weights, width, height);
+        m_integral = m_scale * integral * (2.0f * kPi * kPi / (float(width) * float(height)));
+    }
+
+    /// (u, v) of a world direction: θ from the frame's +y, φ from its −z toward +x.
+    Point2f toUV(const Vector3f &world) const {
+        const Vector3f local = Vector3f(m_toLocal * world).normalized();
+        const float theta = std::acos(std::clamp(local.y(), -1.0f, 1.0f));
+        float phi = std::atan2(local.x(), -local.z());
+        if (phi < 0.0f)
+            phi += 2.0f * kPi;
+        return Point2f(std::min(phi * kInvTwoPi, 1.0f - 1e-7f),
+                       std::min(theta * kInvPi, 1.0f - 1e-7f));
+    }
+
+    std::string m_filename;
+    float m_scale;
+    Transform m_toWorld, m_toLocal;
+    std::shared_ptr<const MIPMap> m_mipmap;
+    Distribution2D m_distribution;
+    Color3f m_integral; ///< ∫ L dω over the sphere
+    Point3f m_sceneCenter = Point3f(0.0f, 0.0f, 0.0f);
+    float m_sceneRadius = 1.0f;
+};
+
+NORI_REGISTER_CLASS(EnvironmentMap, "envmap");
+
+} // namespace nori
