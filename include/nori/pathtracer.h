@@ -43,8 +43,7 @@ private:
     /// with light sampling alone (next-event estimation counted it), and the balance
     /// heuristic against light sampling with MIS.
     Color3f foundEmission(const Scene *scene, const Emitter &emitter,
-                          const EmitterQueryRecord &lRec, bool specularBounce,
-                          float bsdfPdf) const;
+                          const EmitterQueryRecord &lRec, bool specularBounce, float bsdfPdf) const;
 
     Strategy m_strategy;
     int m_maxDepth; ///< bounces after the camera ray; −1 for no limit

@@ -34,8 +34,7 @@ public:
         m_filename = props.getPath("filename");
         m_scale = props.getFloat("scale", 1.0f);
         if (!(m_scale >= 0.0f) || !std::isfinite(m_scale))
-            throw NoriException("envmap: 'scale' must be finite and not negative, got {}",
-                                m_scale);
+            throw NoriException("envmap: 'scale' must be finite and not negative, got {}", m_scale);
         m_toWorld = props.getTransform("toWorld", Transform());
         m_toLocal = m_toWorld.inverse();
         m_mipmap = loadTextureImage(m_filename, ColorSpace::Auto);
@@ -96,9 +95,7 @@ public:
 
     /// Φ = π r² ∫ L dω: the radiance of every direction crossing the disk of the scene's
     /// bounding sphere, with ∫ L dω = Σ L·sin θ·(2π/W)(π/H) over texels.
-    Color3f getPower() const override {
-        return m_integral * (kPi * m_sceneRadius * m_sceneRadius);
-    }
+    Color3f getPower() const override { return m_integral * (kPi * m_sceneRadius * m_sceneRadius); }
 
     std::string toString() const override {
         const Bitmap &image = m_mipmap->level(0);

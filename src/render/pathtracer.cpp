@@ -68,9 +68,9 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
             break;
         }
         if (const Emitter *emitter = its.shape->getEmitter())
-            radiance += throughput * foundEmission(scene, *emitter,
-                                                   EmitterQueryRecord(previous, its),
-                                                   specularBounce, bsdfPdf);
+            radiance +=
+                throughput * foundEmission(scene, *emitter, EmitterQueryRecord(previous, its),
+                                           specularBounce, bsdfPdf);
 
         if (m_maxDepth > 0 && depth >= m_maxDepth)
             break;
