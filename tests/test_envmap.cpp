@@ -99,10 +99,10 @@ namespace {
 const std::string kMeshDirectory = std::string(NORI_SOURCE_DIR) + "/scenes/textured/meshes";
 
 /// A 1×1 camera looking at the origin of a large diffuse floor (albedo 0.5, normal +y)
-/// under the environment map `file`.
-std::shared_ptr<Scene> floorUnder(const std::string &file, const std::string &integrator,
-                                  const std::string &emitterExtra = "",
-                                  const std::string &sceneExtra = "") {
+/// lit by the emitter `emitterXml` (and `sceneExtra`).
+std::shared_ptr<Scene> floorUnderEmitter(const std::string &emitterXml,
+                                         const std::string &integrator,
+                                         const std::string &sceneExtra = "") {
     auto scene = std::dynamic_pointer_cast<Scene>(
         loadFromXMLString(fmt::format(R"(<scene> <integrator type="{}"/>
             <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
@@ -112,12 +112,21 @@ std::shared_ptr<Scene> floorUnder(const std::string &file, const std::string &in
             </camera>
             <mesh type="obj"><string name="filename" value="floor.obj"/>
                 <transform name="toWorld"><scale value="1000"/></transform>
-                <bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf></mesh> {}
-            <emitter type="envmap"><string name="filename" value="{}"/>{}</emitter></scene>)",
-                                      integrator, sceneExtra, file, emitterExtra),
+                <bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf></mesh> {} {}</scene>)",
+                                      integrator, sceneExtra, emitterXml),
                           kMeshDirectory));
     REQUIRE(scene);
     return scene;
+}
+
+/// The floor under the environment map `file`.
+std::shared_ptr<Scene> floorUnder(const std::string &file, const std::string &integrator,
+                                  const std::string &emitterExtra = "",
+                                  const std::string &sceneExtra = "") {
+    return floorUnderEmitter(
+        fmt::format(R"(<emitter type="envmap"><string name="filename" value="{}"/>{}</emitter>)",
+                    file, emitterExtra),
+        integrator, sceneExtra);
 }
 
 StudentTResult tTest(Scene &scene, double reference, size_t samples) {
@@ -143,6 +152,14 @@ TEST_CASE("A diffuse floor under a constant environment reflects albedo times L"
     for (const std::string &integrator : kEnvironmentIntegrators) {
         CAPTURE(integrator);
         tTest(*floorUnder(file, integrator), 0.5 * 2.0, 20000);
+    }
+    // The `constant` environment is the same light.
+    for (const std::string &integrator : kEnvironmentIntegrators) {
+        CAPTURE(integrator);
+        tTest(*floorUnderEmitter(
+                  R"(<emitter type="constant"><color name="radiance" value="2"/></emitter>)",
+                  integrator),
+              0.5 * 2.0, 20000);
     }
     // The control: a reference 3% off is rejected.
     const RunningMoments moments = estimatePixel(*floorUnder(file, "path_mis"), 20000);

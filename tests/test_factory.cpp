@@ -36,9 +36,13 @@ TEST_CASE("Factory rejects a name registered twice", "[factory]") {
         return std::make_shared<nori::testing::Recorder>(props);
     };
     CHECK_THAT(errorOf([&] {
-                   NoriObjectFactory::registerClass("diffuse", NoriObject::ETest, constructor);
+                   NoriObjectFactory::registerClass("diffuse", NoriObject::EBSDF, constructor,
+                                                    "elsewhere.cpp");
                }),
-               Contains("'diffuse' is registered twice (as a bsdf and as a test)"));
+               Contains("'diffuse' is registered twice as a bsdf") && Contains("elsewhere.cpp"));
+    // Within a kind only: the `constant` texture and the `constant` emitter are two plugins.
+    const auto kinds = NoriObjectFactory::kindsOf("constant");
+    CHECK(kinds.size() == 2);
     // At static-initialisation time the duplicate is remembered instead of thrown.
     CHECK_FALSE(
         NoriObjectFactory::registerStatic("recorder", NoriObject::ETest, constructor, __FILE__));

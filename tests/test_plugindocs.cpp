@@ -17,12 +17,13 @@ using nori::testing::errorOf;
 namespace {
 
 /// The plugins registered from files under plugins/ (not the tests' own plugins).
-std::vector<std::string> shippedPlugins() {
-    std::vector<std::string> names;
+std::vector<std::pair<NoriObject::EClassType, std::string>> shippedPlugins() {
+    std::vector<std::pair<NoriObject::EClassType, std::string>> plugins;
     for (const auto &[type, name] : NoriObjectFactory::registeredClasses())
-        if (shortSourcePath(NoriObjectFactory::entry(name).sourceFile).rfind("plugins/", 0) == 0)
-            names.push_back(name);
-    return names;
+        if (shortSourcePath(NoriObjectFactory::entry(type, name).sourceFile).rfind("plugins/", 0) ==
+            0)
+            plugins.emplace_back(type, name);
+    return plugins;
 }
 
 } // namespace
@@ -73,11 +74,11 @@ TEST_CASE("Doc comments parse into name, summary, parameters and examples", "[do
 }
 
 TEST_CASE("Every plugin has a doc block with its name and at least one example", "[docs]") {
-    const std::vector<std::string> plugins = shippedPlugins();
+    const auto plugins = shippedPlugins();
     REQUIRE(plugins.size() > 30);
-    for (const std::string &name : plugins) {
-        INFO(name << " (" << NoriObjectFactory::entry(name).sourceFile << ")");
-        const std::string comment = docCommentOf(name);
+    for (const auto &[type, name] : plugins) {
+        INFO(name << " (" << NoriObjectFactory::entry(type, name).sourceFile << ")");
+        const std::string comment = docCommentOf(type, name);
         REQUIRE_FALSE(comment.empty());
         const PluginDoc doc = parsePluginDoc(comment);
         CHECK(doc.name == name);
@@ -88,23 +89,26 @@ TEST_CASE("Every plugin has a doc block with its name and at least one example",
 
 TEST_CASE("Every plugin's examples load, and it reads only documented parameters", "[docs]") {
     // Which parameters each plugin asked its property list for, as the examples build them.
-    std::map<std::string, std::set<std::string>> queried;
-    NoriObjectFactory::setObserver([&](const std::string &name, const PropertyList &props) {
-        std::set<std::string> &names = queried[name]; // also for plugins without parameters
-        for (const std::string &parameter : props.queriedNames())
-            names.insert(parameter);
-    });
-    for (const std::string &name : shippedPlugins()) {
-        const PluginDoc doc = parsePluginDoc(docCommentOf(name));
-        queried.erase(name);
+    using Plugin = std::pair<NoriObject::EClassType, std::string>;
+    std::map<Plugin, std::set<std::string>> queried;
+    NoriObjectFactory::setObserver(
+        [&](NoriObject::EClassType type, const std::string &name, const PropertyList &props) {
+            std::set<std::string> &names = queried[Plugin(type, name)]; // also without parameters
+            for (const std::string &parameter : props.queriedNames())
+                names.insert(parameter);
+        });
+    for (const auto &plugin : shippedPlugins()) {
+        const auto &[type, name] = plugin;
+        const PluginDoc doc = parsePluginDoc(docCommentOf(type, name));
+        queried.erase(plugin);
         for (const std::string &example : doc.examples) {
             INFO(name << " example:\n" << example);
             // Examples name files relative to the repository (scenes/...).
             CHECK_NOTHROW(loadFromXMLString(example, NORI_SOURCE_DIR));
         }
         INFO(name);
-        CHECK(queried.count(name) == 1); // an example built it
-        for (const std::string &parameter : queried[name]) {
+        CHECK(queried.count(plugin) == 1); // an example built it
+        for (const std::string &parameter : queried[plugin]) {
             INFO(name << " reads '" << parameter << "'");
             CHECK(doc.documents(parameter));
         }

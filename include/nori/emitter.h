@@ -47,6 +47,21 @@ struct EmitterQueryRecord : TextureQuery {
     }
 };
 
+/// The scene's bounding sphere, which lights at infinity (directional, environment) need:
+/// their power is what crosses its disk, and their shadow rays must leave it.
+struct SceneBoundingSphere {
+    Point3f center = Point3f(0.0f, 0.0f, 0.0f);
+    float radius = 1.0f; ///< until a scene sets it
+
+    /// The sphere around `bounds` (kept as it is for an empty scene).
+    void set(const BoundingBox3f &bounds);
+    /// π r², the cross-section that light from one direction crosses.
+    float diskArea() const { return kPi * radius * radius; }
+    /// Sets lRec.p to a point beyond the sphere from lRec.ref along lRec.wi, with the normal
+    /// facing back and the shadow ray to it.
+    void placeBeyond(EmitterQueryRecord &lRec) const;
+};
+
 class Emitter : public NoriObject {
 public:
     static constexpr EClassType kClassType = EEmitter;

@@ -53,7 +53,7 @@ private:
     std::string m_pluginName;
 };
 
-/// Registry from plugin name to constructor.
+/// Registry from plugin kind and name to constructor (a name is unique within a kind).
 class NoriObjectFactory {
 public:
     using Constructor = std::function<std::shared_ptr<NoriObject>(const PropertyList &)>;
@@ -64,7 +64,7 @@ public:
         std::string sourceFile; ///< where it was registered (__FILE__), for its doc comment
     };
 
-    /// Registers a plugin; throws NoriException when the name is already taken.
+    /// Registers a plugin; throws NoriException when the kind already has that name.
     static void registerClass(const std::string &name, NoriObject::EClassType type,
                               Constructor constructor, const std::string &sourceFile = "");
     /// As registerClass, for static initialisation (where throwing would abort): a
@@ -82,15 +82,20 @@ public:
                                                       const PropertyList &props);
     /// Every registered plugin, sorted by kind then name.
     static std::vector<std::pair<NoriObject::EClassType, std::string>> registeredClasses();
+    /// Whether some kind has a plugin called `name`.
     static bool isRegistered(const std::string &name);
-    /// The registration of `name`; throws NoriException when there is none.
-    static const Entry &entry(const std::string &name);
+    /// The kinds that have a plugin called `name` (usually one).
+    static std::vector<NoriObject::EClassType> kindsOf(const std::string &name);
+    /// The registration of the plugin; throws NoriException when there is none.
+    static const Entry &entry(NoriObject::EClassType type, const std::string &name);
+    /// Removes the plugins called `name`, of every kind.
     static void unregisterClass(const std::string &name);
 
     /// Called with every plugin createInstance() makes and the properties it was given
     /// (which know what the plugin read): how the doc test sees what plugins read. One
     /// observer at a time; an empty function removes it.
-    using Observer = std::function<void(const std::string &name, const PropertyList &props)>;
+    using Observer = std::function<void(NoriObject::EClassType type, const std::string &name,
+                                        const PropertyList &props)>;
     static void setObserver(Observer observer);
 };
 

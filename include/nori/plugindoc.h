@@ -19,6 +19,8 @@
 // Columns of a parameter line are separated by two or more spaces.
 #pragma once
 
+#include <nori/object.h>
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,7 +57,7 @@ bool registerDocComments(const std::vector<std::pair<const char *, const char *>
 
 /// The doc comment of the file that registered plugin `name` (see NoriObjectFactory),
 /// or "" when that file has none.
-std::string docCommentOf(const std::string &name);
+std::string docCommentOf(NoriObject::EClassType type, const std::string &name);
 
 } // namespace nori
 

@@ -29,31 +29,21 @@ public:
             throw NoriException("directional: 'irradiance' must be finite and not negative");
     }
 
-    void setSceneBounds(const BoundingBox3f &bounds) override {
-        if (bounds.isValid()) {
-            m_sceneCenter = bounds.getCenter();
-            m_sceneRadius = 0.5f * (bounds.max - bounds.min).norm();
-        }
-    }
+    void setSceneBounds(const BoundingBox3f &bounds) override { m_scene.set(bounds); }
 
     Color3f sample(EmitterQueryRecord &lRec, const Point2f &) const override {
         // A point beyond the scene's bounding sphere in the light's direction, so that
         // the shadow ray crosses everything that can block the light.
-        const float distance = (lRec.ref - m_sceneCenter).norm() + 2.0f * m_sceneRadius;
         lRec.wi = m_toLight;
-        lRec.p = lRec.ref + distance * m_toLight;
-        lRec.n = Normal3f(-m_toLight);
+        m_scene.placeBeyond(lRec);
         lRec.pdf = 1.0f; // a delta distribution in direction
-        lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance);
         return m_irradiance;
     }
 
     Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }
     float pdf(const EmitterQueryRecord &) const override { return 0.0f; }
     bool isDelta() const override { return true; }
-    Color3f getPower() const override {
-        return m_irradiance * (kPi * m_sceneRadius * m_sceneRadius);
-    }
+    Color3f getPower() const override { return m_irradiance * m_scene.diskArea(); }
 
     std::string toString() const override {
         return fmt::format("DirectionalLight[toLight=({}, {}, {}), irradiance=({}, {}, {})]",
@@ -64,9 +54,7 @@ public:
 private:
     Vector3f m_toLight;
     Color3f m_irradiance;
-    /// The scene's bounding sphere; until a scene tells it, a sphere of radius 10⁴.
-    Point3f m_sceneCenter = Point3f(0.0f, 0.0f, 0.0f);
-    float m_sceneRadius = 1e4f;
+    SceneBoundingSphere m_scene;
 };
 
 NORI_REGISTER_CLASS(DirectionalLight, "directional");

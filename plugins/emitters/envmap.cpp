@@ -43,12 +43,7 @@ public:
 
     bool isInfinite() const override { return true; }
 
-    void setSceneBounds(const BoundingBox3f &bounds) override {
-        if (bounds.isValid()) {
-            m_sceneCenter = bounds.getCenter();
-            m_sceneRadius = std::max(0.5f * (bounds.max - bounds.min).norm(), 1e-3f);
-        }
-    }
+    void setSceneBounds(const BoundingBox3f &bounds) override { m_scene.set(bounds); }
 
     Color3f sample(EmitterQueryRecord &lRec, const Point2f &sample) const override {
         float uvPdf;
@@ -60,11 +55,7 @@ public:
         const Vector3f local(std::sin(phi) * sinTheta, std::cos(theta), -std::cos(phi) * sinTheta);
         lRec.wi = Vector3f(m_toWorld * local).normalized();
         lRec.pdf = uvPdf / (2.0f * kPi * kPi * sinTheta);
-        // A point beyond the scene's bounding sphere, for the shadow ray.
-        const float distance = (lRec.ref - m_sceneCenter).norm() + 2.0f * m_sceneRadius;
-        lRec.p = lRec.ref + distance * lRec.wi;
-        lRec.n = Normal3f(-lRec.wi);
-        lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance);
+        m_scene.placeBeyond(lRec); // a point beyond the scene, for the shadow ray
         lRec.dwdx = lRec.dwdy = Vector3f::Zero();
         return eval(lRec) / lRec.pdf;
     }
@@ -95,7 +86,7 @@ public:
 
     /// Φ = π r² ∫ L dω: the radiance of every direction crossing the disk of the scene's
     /// bounding sphere, with ∫ L dω = Σ L·sin θ·(2π/W)(π/H) over texels.
-    Color3f getPower() const override { return m_integral * (kPi * m_sceneRadius * m_sceneRadius); }
+    Color3f getPower() const override { return m_integral * m_scene.diskArea(); }
 
     std::string toString() const override {
         const Bitmap &image = m_mipmap->level(0);
@@ -145,8 +136,7 @@ private:
     std::shared_ptr<const MIPMap> m_mipmap;
     Distribution2D m_distribution;
     Color3f m_integral; ///< ∫ L dω over the sphere
-    Point3f m_sceneCenter = Point3f(0.0f, 0.0f, 0.0f);
-    float m_sceneRadius = 1.0f;
+    SceneBoundingSphere m_scene;
 };
 
 NORI_REGISTER_CLASS(EnvironmentMap, "envmap");

@@ -11,8 +11,11 @@ const char *kClassTypeNames[NoriObject::EClassTypeCount] = {
     "scene",   "mesh",   "bsdf",       "phase",   "emitter", "medium",
     "texture", "camera", "integrator", "sampler", "test",    "rfilter"};
 
-std::map<std::string, NoriObjectFactory::Entry> &registry() {
-    static std::map<std::string, NoriObjectFactory::Entry> entries;
+/// Plugins by kind and name: a name may be used once per kind (the `constant` texture
+/// and the `constant` environment emitter).
+using RegistryKey = std::pair<NoriObject::EClassType, std::string>;
+std::map<RegistryKey, NoriObjectFactory::Entry> &registry() {
+    static std::map<RegistryKey, NoriObjectFactory::Entry> entries;
     return entries;
 }
 
@@ -55,10 +58,11 @@ NoriObject::EClassType NoriObject::classTypeFromName(const std::string &tag) {
 
 void NoriObjectFactory::registerClass(const std::string &name, NoriObject::EClassType type,
                                       Constructor constructor, const std::string &sourceFile) {
-    auto [it, inserted] = registry().emplace(name, Entry{type, std::move(constructor), sourceFile});
+    auto [it, inserted] = registry().emplace(RegistryKey(type, name),
+                                             Entry{type, std::move(constructor), sourceFile});
     if (!inserted)
-        throw NoriException("plugin name '{}' is registered twice (as {} and as {})", name,
-                            withArticle(it->second.type), withArticle(type));
+        throw NoriException("plugin name '{}' is registered twice as {} (in {} and {})", name,
+                            withArticle(type), it->second.sourceFile, sourceFile);
 }
 
 bool NoriObjectFactory::registerStatic(const std::string &name, NoriObject::EClassType type,
@@ -85,12 +89,16 @@ void NoriObjectFactory::checkRegistry() {
 std::shared_ptr<NoriObject> NoriObjectFactory::createInstance(const std::string &name,
                                                               NoriObject::EClassType expectedType,
                                                               const PropertyList &props) {
-    auto it = registry().find(name);
+    auto it = registry().find(RegistryKey(expectedType, name));
     if (it == registry().end()) {
+        for (const auto &[key, entry] : registry())
+            if (key.second == name)
+                throw NoriException("plugin '{}' is {}, not {}", name, withArticle(entry.type),
+                                    withArticle(expectedType));
         std::vector<std::string> sameKind;
-        for (const auto &[candidate, entry] : registry())
-            if (entry.type == expectedType)
-                sameKind.push_back(candidate);
+        for (const auto &[key, entry] : registry())
+            if (key.first == expectedType)
+                sameKind.push_back(key.second);
         std::string hint = didYouMean(name, sameKind);
         if (hint.empty() && !sameKind.empty())
             hint = fmt::format(" (known {} plugins: {})", NoriObject::classTypeName(expectedType),
@@ -98,34 +106,43 @@ std::shared_ptr<NoriObject> NoriObjectFactory::createInstance(const std::string 
         throw NoriException("unknown {} plugin '{}'{}", NoriObject::classTypeName(expectedType),
                             name, hint);
     }
-    if (it->second.type != expectedType)
-        throw NoriException("plugin '{}' is {}, not {}", name, withArticle(it->second.type),
-                            withArticle(expectedType));
     std::shared_ptr<NoriObject> object = it->second.constructor(props);
     object->setPluginName(name);
     if (observerSlot())
-        observerSlot()(name, props);
+        observerSlot()(expectedType, name, props);
     props.checkAllRead(fmt::format("{} '{}'", NoriObject::classTypeName(expectedType), name));
     return object;
 }
 
 std::vector<std::pair<NoriObject::EClassType, std::string>> NoriObjectFactory::registeredClasses() {
     std::vector<std::pair<NoriObject::EClassType, std::string>> classes;
-    for (const auto &[name, entry] : registry())
-        classes.emplace_back(entry.type, name);
-    std::sort(classes.begin(), classes.end());
-    return classes;
+    for (const auto &[key, entry] : registry())
+        classes.push_back(key);
+    return classes; // the map's order: by kind, then name
 }
 
 bool NoriObjectFactory::isRegistered(const std::string &name) {
-    return registry().count(name) != 0;
+    for (const auto &[key, entry] : registry())
+        if (key.second == name)
+            return true;
+    return false;
 }
 
-const NoriObjectFactory::Entry &NoriObjectFactory::entry(const std::string &name) {
-    auto it = registry().find(name);
+const NoriObjectFactory::Entry &NoriObjectFactory::entry(NoriObject::EClassType type,
+                                                         const std::string &name) {
+    auto it = registry().find(RegistryKey(type, name));
     if (it == registry().end())
-        throw NoriException("no plugin is registered as '{}'", name);
+        throw NoriException("no {} plugin is registered as '{}'", NoriObject::classTypeName(type),
+                            name);
     return it->second;
+}
+
+std::vector<NoriObject::EClassType> NoriObjectFactory::kindsOf(const std::string &name) {
+    std::vector<NoriObject::EClassType> kinds;
+    for (const auto &[key, entry] : registry())
+        if (key.second == name)
+            kinds.push_back(key.first);
+    return kinds;
 }
 
 void NoriObjectFactory::setObserver(Observer observer) {
@@ -133,7 +150,8 @@ void NoriObjectFactory::setObserver(Observer observer) {
 }
 
 void NoriObjectFactory::unregisterClass(const std::string &name) {
-    registry().erase(name);
+    for (auto it = registry().begin(); it != registry().end();)
+        it = it->first.second == name ? registry().erase(it) : std::next(it);
 }
 
 } // namespace nori

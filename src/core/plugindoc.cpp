@@ -210,8 +210,8 @@ bool registerDocComments(const std::vector<std::pair<const char *, const char *>
     }
 }
 
-std::string docCommentOf(const std::string &name) {
-    const auto it = docComments().find(NoriObjectFactory::entry(name).sourceFile);
+std::string docCommentOf(NoriObject::EClassType type, const std::string &name) {
+    const auto it = docComments().find(NoriObjectFactory::entry(type, name).sourceFile);
     return it == docComments().end() ? "" : it->second;
 }
 
@@ -251,7 +251,7 @@ std::string pluginList(const std::string &kind) {
             out += fmt::format("{}{}:\n", out.empty() ? "" : "\n", NoriObject::classTypeName(type));
         }
         std::string summary;
-        const std::string comment = docCommentOf(name);
+        const std::string comment = docCommentOf(type, name);
         if (!comment.empty()) {
             try {
                 summary = parsePluginDoc(comment).summary;
@@ -267,18 +267,24 @@ std::string pluginList(const std::string &kind) {
 std::string pluginReference(const std::string &name) {
     if (!NoriObjectFactory::isRegistered(name))
         return pluginList(name); // a kind, or an error with a suggestion
-    const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(name);
-    const std::string comment = docCommentOf(name);
-    std::string out = fmt::format("{} ({}, {})\n\n", name, NoriObject::classTypeName(entry.type),
-                                  shortSourcePath(entry.sourceFile));
-    if (comment.empty())
-        return out + "(this plugin's file has no doc comment)\n";
-    try {
-        return out + parsePluginDoc(comment).text;
-    } catch (const NoriException &error) {
-        throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
-                            error.what());
+    std::string out;
+    for (const NoriObject::EClassType type : NoriObjectFactory::kindsOf(name)) {
+        const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(type, name);
+        const std::string comment = docCommentOf(type, name);
+        out += fmt::format("{}{} ({}, {})\n\n", out.empty() ? "" : "\n", name,
+                           NoriObject::classTypeName(type), shortSourcePath(entry.sourceFile));
+        if (comment.empty()) {
+            out += "(this plugin's file has no doc comment)\n";
+            continue;
+        }
+        try {
+            out += parsePluginDoc(comment).text;
+        } catch (const NoriException &error) {
+            throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
+                                error.what());
+        }
     }
+    return out;
 }
 
 std::string pluginsMarkdown() {
@@ -287,8 +293,8 @@ std::string pluginsMarkdown() {
                       "the same.\n";
     NoriObject::EClassType current = NoriObject::EClassTypeCount;
     for (const auto &[type, name] : NoriObjectFactory::registeredClasses()) {
-        const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(name);
-        const std::string comment = docCommentOf(name);
+        const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(type, name);
+        const std::string comment = docCommentOf(type, name);
         if (shortSourcePath(entry.sourceFile).rfind("plugins/", 0) != 0 || comment.empty())
             continue;
         if (type != current) {

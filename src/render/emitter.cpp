@@ -3,6 +3,22 @@
 
 namespace nori {
 
+void SceneBoundingSphere::set(const BoundingBox3f &bounds) {
+    if (!bounds.isValid())
+        return;
+    center = bounds.getCenter();
+    radius = std::max(0.5f * (bounds.max - bounds.min).norm(), 1e-3f);
+}
+
+void SceneBoundingSphere::placeBeyond(EmitterQueryRecord &lRec) const {
+    // From any point, leaving the sphere takes at most the distance to its centre plus
+    // its diameter.
+    const float distance = (lRec.ref - center).norm() + 2.0f * radius;
+    lRec.p = lRec.ref + distance * lRec.wi;
+    lRec.n = Normal3f(-lRec.wi);
+    lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance);
+}
+
 Color3f Emitter::readIntensity(const PropertyList &props, const std::string &plugin,
                                float solidAngle) {
     const bool hasPower = props.has("power"), hasIntensity = props.has("intensity");

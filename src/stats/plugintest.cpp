@@ -301,7 +301,16 @@ std::vector<std::string> samplingPlugins() {
 }
 
 PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOptions &options) {
-    const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(name);
+    // The sampling plugin of that name (a name may also be, say, a texture's).
+    std::vector<NoriObject::EClassType> kinds = NoriObjectFactory::kindsOf(name);
+    if (kinds.empty())
+        throw NoriException("no plugin is registered as '{}'", name);
+    NoriObject::EClassType kind = kinds.front();
+    for (NoriObject::EClassType candidate : kinds)
+        if (candidate == NoriObject::EBSDF || candidate == NoriObject::EPhaseFunction ||
+            candidate == NoriObject::EEmitter)
+            kind = candidate;
+    const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(kind, name);
     PluginTestResult result;
     result.report = fmt::format("{} ({}, {})\n", name, NoriObject::classTypeName(entry.type),
                                 shortSourcePath(entry.sourceFile));
@@ -310,7 +319,7 @@ PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOpt
         result.report += "  not a BSDF, phase function or emitter: nothing to sample\n";
         return result;
     }
-    const std::string comment = docCommentOf(name);
+    const std::string comment = docCommentOf(kind, name);
     if (comment.empty())
         throw NoriException("{}: '{}' has no doc comment, so no examples to test (see "
                             "include/nori/plugindoc.h)",
