@@ -11,9 +11,12 @@
  * its power is that through the disk of the scene's bounding sphere.
  *
  * Parameters:
- *   filename  string     (required)  the lat-long image, relative to the scene file
- *   scale     float      1           multiplies the radiance
- *   toWorld   transform  identity    orientation of the map (rotations)
+ *   filename  string     (required)   the lat-long image, relative to the scene file
+ *   scale     float      1            multiplies the radiance
+ *   toWorld   transform  identity     orientation of the map (rotations)
+ *   sampling  string     "luminance"  "luminance" (importance sampling, above) or
+ *                                     "uniform" (directions uniform over the sphere:
+ *                                     only for comparisons, it is much noisier)
  *
  *   <emitter type="envmap">
  *       <string name="filename" value="scenes/textured/textures/sky.exr"/>
@@ -25,6 +28,7 @@
 #include <nori/proplist.h>
 #include <nori/texturecache.h>
 #include <nori/transform.h>
+#include <nori/warp.h>
 
 namespace nori {
 
@@ -37,6 +41,11 @@ public:
             throw NoriException("envmap: 'scale' must be finite and not negative, got {}", m_scale);
         m_toWorld = props.getTransform("toWorld", Transform());
         m_toLocal = m_toWorld.inverse();
+        const std::string sampling = props.getString("sampling", "luminance");
+        if (sampling != "luminance" && sampling != "uniform")
+            throw NoriException("envmap: unknown sampling '{}' (use luminance or uniform)",
+                                sampling);
+        m_uniform = sampling == "uniform";
         m_mipmap = loadTextureImage(m_filename, ColorSpace::Auto);
         buildDistribution();
     }
@@ -46,6 +55,13 @@ public:
     void setSceneBounds(const BoundingBox3f &bounds) override { m_scene.set(bounds); }
 
     Color3f sample(EmitterQueryRecord &lRec, const Point2f &sample) const override {
+        lRec.dwdx = lRec.dwdy = Vector3f::Zero();
+        if (m_uniform) {
+            lRec.wi = Warp::squareToUniformSphere(sample);
+            lRec.pdf = Warp::squareToUniformSpherePdf(lRec.wi);
+            m_scene.placeBeyond(lRec);
+            return eval(lRec) / lRec.pdf;
+        }
         float uvPdf;
         const Point2f uv = m_distribution.sampleContinuous(sample, uvPdf);
         const float theta = uv.y() * kPi, phi = uv.x() * 2.0f * kPi;
@@ -56,7 +72,6 @@ public:
         lRec.wi = Vector3f(m_toWorld * local).normalized();
         lRec.pdf = uvPdf / (2.0f * kPi * kPi * sinTheta);
         m_scene.placeBeyond(lRec); // a point beyond the scene, for the shadow ray
-        lRec.dwdx = lRec.dwdy = Vector3f::Zero();
         return eval(lRec) / lRec.pdf;
     }
 
@@ -75,6 +90,8 @@ public:
     }
 
     float pdf(const EmitterQueryRecord &lRec) const override {
+        if (m_uniform)
+            return Warp::squareToUniformSpherePdf(lRec.wi);
         // sin θ from the horizontal components: accurate near the poles, where
         // √(1 − cos²θ) loses its digits.
         const Vector3f local = Vector3f(m_toLocal * lRec.wi).normalized();
@@ -132,6 +149,7 @@ private:
 
     std::string m_filename;
     float m_scale;
+    bool m_uniform; ///< sample directions uniformly instead of by luminance
     Transform m_toWorld, m_toLocal;
     std::shared_ptr<const MIPMap> m_mipmap;
     Distribution2D m_distribution;
