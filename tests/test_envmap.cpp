@@ -216,3 +216,24 @@ TEST_CASE("path_mats, path_ems and path_mis agree under an environment map", "[e
         tTest(*floorUnder(map, integrator, "", sphere), reference.mean, 40000);
     }
 }
+
+TEST_CASE("Camera rays see the environment filtered over their pixel footprint",
+          "[envmap][differentials]") {
+    TempDir dir;
+    // A checkerboard of single texels (mean 0.5): unfiltered, a pixel covering many
+    // texels sees 0 or 1; filtered, close to 0.5.
+    const std::string map = writeMap(dir, "fine.exr", 1024, 512,
+                                     [](int x, int y) { return Color3f(float((x + y) % 2)); });
+    auto envmap = loadEnvmap(map);
+    Ray3f ray(Point3f(0.0f, 0.0f, 0.0f), Vector3f(0.3f, 0.2f, -1.0f).normalized());
+    ray.hasDifferentials = true;
+    ray.rxOrigin = ray.ryOrigin = ray.o;
+    // Each pixel step turns the direction by 0.05 rad: about 8 texels of the 1024-wide map.
+    const Frame frame(ray.d);
+    ray.rxDirection = (ray.d + 0.05f * frame.s).normalized();
+    ray.ryDirection = (ray.d + 0.05f * frame.t).normalized();
+    const float filtered = envmap->eval(EmitterQueryRecord(ray, true)).r();
+    const float pointwise = envmap->eval(EmitterQueryRecord(ray, false)).r();
+    CHECK(filtered == Approx(0.5f).margin(0.05f));
+    CHECK((pointwise == 0.0f || pointwise == 1.0f));
+}

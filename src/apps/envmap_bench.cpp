@@ -47,8 +47,7 @@ void distributionFigures() {
     for (int y = 0; y < map.height(); ++y) {
         const float sinTheta = std::sin((y + 0.5f) * kPi / map.height());
         for (int x = 0; x < map.width(); ++x)
-            weights[static_cast<size_t>(y) * map.width() + x] =
-                map(y, x).getLuminance() * sinTheta;
+            weights[static_cast<size_t>(y) * map.width() + x] = map(y, x).getLuminance() * sinTheta;
     }
     auto start = std::chrono::steady_clock::now();
     const Distribution2D distribution(weights, map.width(), map.height());
