@@ -96,37 +96,13 @@ TEST_CASE("Environment map direction sampling passes chi-square; forgetting sin(
 
 namespace {
 
-const std::string kMeshDirectory = std::string(NORI_SOURCE_DIR) + "/scenes/textured/meshes";
-
-/// A 1×1 camera looking at the origin of a large diffuse floor (albedo 0.5, normal +y)
-/// lit by the emitter `emitterXml` (and `sceneExtra`).
-std::shared_ptr<Scene> floorUnderEmitter(const std::string &emitterXml,
-                                         const std::string &integrator,
-                                         const std::string &sceneExtra = "") {
-    auto scene = std::dynamic_pointer_cast<Scene>(
-        loadFromXMLString(fmt::format(R"(<scene> <integrator type="{}"/>
-            <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
-            <camera type="perspective"><float name="fov" value="0.001"/>
-                <integer name="width" value="1"/> <integer name="height" value="1"/>
-                <transform name="toWorld"><lookat origin="0.3, 2, 1" target="0, 0, 0" up="0, 1, 0"/></transform>
-            </camera>
-            <mesh type="obj"><string name="filename" value="floor.obj"/>
-                <transform name="toWorld"><scale value="1000"/></transform>
-                <bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf></mesh> {} {}</scene>)",
-                                      integrator, sceneExtra, emitterXml),
-                          kMeshDirectory));
-    REQUIRE(scene);
-    return scene;
-}
-
 /// The floor under the environment map `file`.
 std::shared_ptr<Scene> floorUnder(const std::string &file, const std::string &integrator,
                                   const std::string &emitterExtra = "",
                                   const std::string &sceneExtra = "") {
-    return floorUnderEmitter(
-        fmt::format(R"(<emitter type="envmap"><string name="filename" value="{}"/>{}</emitter>)",
-                    file, emitterExtra),
-        integrator, sceneExtra);
+    return litFloor(integrator, fmt::format(R"(<emitter type="envmap"><string name="filename"
+        value="{}"/>{}</emitter> {})",
+                                            file, emitterExtra, sceneExtra));
 }
 
 StudentTResult tTest(Scene &scene, double reference, size_t samples) {
@@ -156,9 +132,8 @@ TEST_CASE("A diffuse floor under a constant environment reflects albedo times L"
     // The `constant` environment is the same light.
     for (const std::string &integrator : kEnvironmentIntegrators) {
         CAPTURE(integrator);
-        tTest(*floorUnderEmitter(
-                  R"(<emitter type="constant"><color name="radiance" value="2"/></emitter>)",
-                  integrator),
+        tTest(*litFloor(integrator,
+                        R"(<emitter type="constant"><color name="radiance" value="2"/></emitter>)"),
               0.5 * 2.0, 20000);
     }
     // The control: a reference 3% off is rejected.

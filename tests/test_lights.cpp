@@ -14,29 +14,6 @@ using namespace nori::testing;
 
 namespace {
 
-const std::string kMeshDirectory = std::string(NORI_SOURCE_DIR) + "/scenes/textured/meshes";
-
-/// A 1×1 camera looking at the origin of a large diffuse floor (albedo 0.5, normal +y),
-/// lit by `lights`, rendered by `integrator`.
-std::shared_ptr<Scene> litFloor(const std::string &lights, const std::string &integrator,
-                                const std::string &extra = "") {
-    auto scene = std::dynamic_pointer_cast<Scene>(
-        loadFromXMLString(fmt::format(R"(<scene> <integrator type="{}"/>
-            <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
-            <camera type="perspective"><float name="fov" value="0.001"/>
-                <integer name="width" value="1"/> <integer name="height" value="1"/>
-                <transform name="toWorld"><lookat origin="0.3, 2, 1" target="0, 0, 0" up="0, 1, 0"/></transform>
-            </camera>
-            <mesh type="obj"><string name="filename" value="floor.obj"/>
-                <transform name="toWorld"><scale value="10"/></transform>
-                <bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf></mesh>
-            {} {}</scene>)",
-                                      integrator, lights, extra),
-                          kMeshDirectory));
-    REQUIRE(scene);
-    return scene;
-}
-
 const char *kSpot = R"(<emitter type="spot"><point name="position" value="{}, 2, 0"/>
     <point name="target" value="{}, 0, 0"/> <color name="intensity" value="{}"/>
     <float name="cutoffAngle" value="30"/> <float name="beamWidth" value="20"/></emitter>)";
@@ -78,19 +55,19 @@ TEST_CASE("A directional light gives a diffuse plane albedo/π · E · cos θ", 
         <color name="irradiance" value="3"/></emitter>)";
     for (const std::string &integrator : kDeltaLightIntegrators) {
         CAPTURE(integrator);
-        checkEstimate(*litFloor(light, integrator), reference);
+        checkEstimate(*litFloor(integrator, light), reference);
     }
     // The control: the same estimate against a reference 3% off is rejected.
-    const RunningMoments moments = estimatePixel(*litFloor(light, "direct_ems"), 2000);
+    const RunningMoments moments = estimatePixel(*litFloor("direct_ems", light), 2000);
     CHECK_FALSE(
         studentTTest(moments.mean, moments.variance(), moments.count, 1.03 * reference, 0.01)
             .passed);
     // path_mats samples the BSDF only, and no ray ever hits a delta light.
-    CHECK(estimatePixel(*litFloor(light, "path_mats"), 100).mean == 0.0);
+    CHECK(estimatePixel(*litFloor("path_mats", light), 100).mean == 0.0);
     // A far occluder between the floor and the light: the shadow ray reaches past the scene.
     const std::string blocker = R"(<mesh type="obj"><string name="filename" value="floor.obj"/>
         <transform name="toWorld"><scale value="100"/><translate value="0, 50, 0"/></transform></mesh>)";
-    CHECK(estimatePixel(*litFloor(light, "direct_ems", blocker), 100).mean == 0.0);
+    CHECK(estimatePixel(*litFloor("direct_ems", light + blocker), 100).mean == 0.0);
 }
 
 TEST_CASE("A spot light: full inside the beam, smoothstep in the ring, dark outside", "[lights]") {
@@ -102,7 +79,7 @@ TEST_CASE("A spot light: full inside the beam, smoothstep in the ring, dark outs
         const double reference = spotReference(x, targetX, 40.0f);
         for (const std::string &integrator : kDeltaLightIntegrators) {
             CAPTURE(integrator);
-            checkEstimate(*litFloor(fmt::format(kSpot, x, targetX, 40), integrator), reference);
+            checkEstimate(*litFloor(integrator, fmt::format(kSpot, x, targetX, 40)), reference);
         }
     }
     CHECK(spotReference(0.0f, 1.4f, 40.0f) == 0.0);
@@ -119,7 +96,7 @@ TEST_CASE("Two lights of very unequal power add up for every integrator that see
     const double reference = spotReference(1.0f, 0.0f, 2000.0f) + 0.5 * kInvPi * 0.01;
     for (const std::string &integrator : kDeltaLightIntegrators) {
         CAPTURE(integrator);
-        checkEstimate(*litFloor(lights, integrator), reference, 20000);
+        checkEstimate(*litFloor(integrator, lights), reference, 20000);
     }
 }
 

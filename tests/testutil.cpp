@@ -2,6 +2,7 @@
 
 #include <nori/camera.h>
 #include <nori/integrator.h>
+#include <nori/parser.h>
 #include <nori/sampler.h>
 
 #include <csignal>
@@ -73,6 +74,24 @@ ProcessResult runNori(const std::vector<std::string> &arguments,
     waitpid(pid, &status, 0);
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return result;
+}
+
+std::shared_ptr<Scene> litFloor(const std::string &integrator, const std::string &content) {
+    auto scene = std::dynamic_pointer_cast<Scene>(
+        loadFromXMLString(fmt::format(R"(<scene> <integrator type="{}"/>
+            <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
+            <camera type="perspective"><float name="fov" value="0.001"/>
+                <integer name="width" value="1"/> <integer name="height" value="1"/>
+                <transform name="toWorld"><lookat origin="0.3, 2, 1" target="0, 0, 0" up="0, 1, 0"/></transform>
+            </camera>
+            <mesh type="obj"><string name="filename" value="floor.obj"/>
+                <transform name="toWorld"><scale value="1000"/></transform>
+                <bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf></mesh> {}</scene>)",
+                                      integrator, content),
+                          std::string(NORI_SOURCE_DIR) + "/scenes/textured/meshes"));
+    if (!scene)
+        throw NoriException("litFloor: not a scene");
+    return scene;
 }
 
 RunningMoments estimatePixel(Scene &scene, size_t count) {

@@ -37,6 +37,11 @@ struct ProcessResult {
 ProcessResult runNori(const std::vector<std::string> &arguments,
                       const std::string &interruptAfter = "");
 
+/// A scene for closed-form lighting tests: a 1×1 camera with a tiny field of view looking
+/// at the origin of a 2000×2000 diffuse floor (albedo 0.5, normal +y) from (0.3, 2, 1),
+/// rendered by `integrator`, with `content` (lights, more shapes) added.
+std::shared_ptr<Scene> litFloor(const std::string &integrator, const std::string &content);
+
 /// Mean and variance of the luminance of `count` samples of the scene's camera through
 /// its integrator (for 1×1 images whose pixel is one estimate), with independent samples.
 RunningMoments estimatePixel(Scene &scene, size_t count);

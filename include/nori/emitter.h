@@ -104,6 +104,9 @@ protected:
     /// angular profile over the sphere (4π for a point light).
     static Color3f readIntensity(const PropertyList &props, const std::string &plugin,
                                  float solidAngle);
+    /// Fills lRec for a light at the point `position` (p, wi, n, the delta "pdf" 1 and the
+    /// shadow ray) and returns the squared distance to it, or 0 when ref is on it.
+    static float aimAtPoint(EmitterQueryRecord &lRec, const Point3f &position);
 
     const Shape *m_shape = nullptr;
     /// Read every colour and float parameter through this (see BSDF::m_textures).

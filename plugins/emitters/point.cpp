@@ -22,19 +22,9 @@ public:
     }
 
     Color3f sample(EmitterQueryRecord &lRec, const Point2f &) const override {
-        lRec.p = m_position;
-        const Vector3f toLight = m_position - lRec.ref;
-        const float distanceSquared = toLight.squaredNorm();
-        if (distanceSquared == 0.0f)
-            return Color3f(0.0f);
-        const float distance = std::sqrt(distanceSquared);
-        lRec.wi = toLight / distance;
-        lRec.n = Normal3f(-lRec.wi);
-        // A delta distribution: the "pdf" is 1 and the weight is the incident radiance's
-        // integral, I/d².
-        lRec.pdf = 1.0f;
-        lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance * (1.0f - kShadowEpsilon));
-        return m_intensity / distanceSquared;
+        // The irradiance facing the light: I/d².
+        const float distanceSquared = aimAtPoint(lRec, m_position);
+        return distanceSquared > 0.0f ? Color3f(m_intensity / distanceSquared) : Color3f(0.0f);
     }
 
     Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }

@@ -61,16 +61,9 @@ public:
     }
 
     Color3f sample(EmitterQueryRecord &lRec, const Point2f &) const override {
-        lRec.p = m_position;
-        const Vector3f toLight = m_position - lRec.ref;
-        const float distanceSquared = toLight.squaredNorm();
+        const float distanceSquared = aimAtPoint(lRec, m_position);
         if (distanceSquared == 0.0f)
             return Color3f(0.0f);
-        const float distance = std::sqrt(distanceSquared);
-        lRec.wi = toLight / distance;
-        lRec.n = Normal3f(-lRec.wi);
-        lRec.pdf = 1.0f; // a delta distribution, as for a point light
-        lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance * (1.0f - kShadowEpsilon));
         return m_intensity * (falloff(m_axis.dot(-lRec.wi)) / distanceSquared);
     }
 

@@ -19,6 +19,20 @@ void SceneBoundingSphere::placeBeyond(EmitterQueryRecord &lRec) const {
     lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance);
 }
 
+float Emitter::aimAtPoint(EmitterQueryRecord &lRec, const Point3f &position) {
+    lRec.p = position;
+    const Vector3f toLight = position - lRec.ref;
+    const float distanceSquared = toLight.squaredNorm();
+    if (distanceSquared == 0.0f)
+        return 0.0f;
+    const float distance = std::sqrt(distanceSquared);
+    lRec.wi = toLight / distance;
+    lRec.n = Normal3f(-lRec.wi);
+    lRec.pdf = 1.0f; // a delta distribution: the weight is the incident radiance's integral
+    lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance * (1.0f - kShadowEpsilon));
+    return distanceSquared;
+}
+
 Color3f Emitter::readIntensity(const PropertyList &props, const std::string &plugin,
                                float solidAngle) {
     const bool hasPower = props.has("power"), hasIntensity = props.has("intensity");
