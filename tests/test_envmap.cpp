@@ -105,14 +105,10 @@ std::shared_ptr<Scene> floorUnder(const std::string &file, const std::string &in
                                             file, emitterExtra, sceneExtra));
 }
 
-StudentTResult tTest(Scene &scene, double reference, size_t samples) {
-    const RunningMoments moments = estimatePixel(scene, samples);
-    const StudentTResult result =
-        studentTTest(moments.mean, moments.variance(), moments.count, reference, 0.01);
-    INFO("estimate " << moments.mean << " (variance " << moments.variance() << "), reference "
-                     << reference << ", t = " << result.t);
-    CHECK(result.passed);
-    return result;
+void tTest(Scene &scene, double reference, size_t samples) {
+    const PixelTTest test = tTestPixel(scene, reference, samples);
+    INFO(test.summary());
+    CHECK(test.result.passed);
 }
 
 const std::vector<std::string> kEnvironmentIntegrators = {"direct_mats", "direct_ems", "direct_mis",

@@ -32,13 +32,10 @@ double spotReference(float x, float targetX, float intensity) {
 }
 
 void checkEstimate(Scene &scene, double reference, size_t samples = 2000) {
-    const RunningMoments moments = estimatePixel(scene, samples);
-    const StudentTResult result =
-        studentTTest(moments.mean, moments.variance(), moments.count, reference, 0.01);
-    INFO("estimate " << moments.mean << " (variance " << moments.variance() << "), reference "
-                     << reference << ", t = " << result.t);
-    CHECK(result.passed);
-    CHECK(moments.mean == Approx(reference).epsilon(0.02).margin(1e-6));
+    const PixelTTest test = tTestPixel(scene, reference, samples);
+    INFO(test.summary());
+    CHECK(test.result.passed);
+    CHECK(test.moments.mean == Approx(reference).epsilon(0.02).margin(1e-6));
 }
 
 const std::vector<std::string> kDeltaLightIntegrators = {"direct_ems", "direct_mis", "path_ems",

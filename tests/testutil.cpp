@@ -111,4 +111,18 @@ RunningMoments estimatePixel(Scene &scene, size_t count) {
     return moments;
 }
 
+PixelTTest tTestPixel(Scene &scene, double reference, size_t samples) {
+    PixelTTest test;
+    test.moments = estimatePixel(scene, samples);
+    test.reference = reference;
+    test.result = studentTTest(test.moments.mean, test.moments.variance(), test.moments.count,
+                               reference, 0.01);
+    return test;
+}
+
+std::string PixelTTest::summary() const {
+    return fmt::format("estimate {} (variance {}), reference {}, t = {}", moments.mean,
+                       moments.variance(), reference, result.t);
+}
+
 } // namespace nori::testing

@@ -46,6 +46,16 @@ std::shared_ptr<Scene> litFloor(const std::string &integrator, const std::string
 /// its integrator (for 1×1 images whose pixel is one estimate), with independent samples.
 RunningMoments estimatePixel(Scene &scene, size_t count);
 
+/// A t-test (significance 0.01) of `samples` estimates of a 1×1 image against `reference`.
+struct PixelTTest {
+    RunningMoments moments;
+    StudentTResult result;
+    double reference = 0.0;
+    /// "estimate m (variance v), reference r, t = t", for the test's INFO.
+    std::string summary() const;
+};
+PixelTTest tTestPixel(Scene &scene, double reference, size_t samples);
+
 /// The message of the NoriException thrown by f, or "" if none was thrown.
 template <typename F> std::string errorOf(F &&f) {
     try {
