@@ -1,7 +1,9 @@
 // Cameras: the two course conventions for the image's x axis, chosen in the scene or on
 // the command line.
 #include <nori/bitmap.h>
+#include <nori/camera.h>
 #include <nori/parser.h>
+#include <nori/pcg32.h>
 #include <nori/scene.h>
 
 #include "testutil.h"
@@ -112,4 +114,85 @@ TEST_CASE("lookat with 'up' parallel to the view direction is a located error", 
         </camera></scene>)";
     CHECK_THAT(errorOf([&] { load(xml); }),
                Contains("<string>:3:40") && Contains("'up' is parallel to the viewing direction"));
+}
+
+namespace {
+
+std::shared_ptr<Camera> makeCamera(const std::string &type, const std::string &parameters) {
+    auto camera = std::dynamic_pointer_cast<Camera>(loadFromXMLString(fmt::format(
+        R"(<camera type="{}"><integer name="width" value="64"/><integer name="height" value="48"/>
+            <float name="fov" value="40"/>
+            <transform name="toWorld"><lookat origin="1, 2, 6" target="0, 0, 0" up="0, 1, 0"/></transform>
+            {}</camera>)",
+        type, parameters)));
+    REQUIRE(camera);
+    return camera;
+}
+
+/// The distance from point p to the line of the ray.
+float distanceToRay(const Point3f &p, const Ray3f &ray) {
+    const Vector3f d = ray.d.normalized();
+    const Vector3f offset = p - ray.o;
+    return (offset - offset.dot(d) * d).norm();
+}
+
+} // namespace
+
+TEST_CASE("A thin lens of aperture 0 is the pinhole camera, bit for bit", "[camera][thinlens]") {
+    auto pinhole = makeCamera("perspective", "");
+    auto thin = makeCamera("thinlens", R"(<float name="apertureRadius" value="0"/>
+        <float name="focalDistance" value="3"/>)");
+    PCG32 random(1, 2);
+    for (int i = 0; i < 1000; ++i) {
+        const Point2f film(64.0f * random.nextFloat(), 48.0f * random.nextFloat());
+        const Point2f aperture(random.nextFloat(), random.nextFloat());
+        Ray3f a, b;
+        pinhole->sampleRay(a, film, aperture);
+        thin->sampleRay(b, film, aperture);
+        REQUIRE(a.o == b.o);
+        REQUIRE(a.d == b.d);
+        REQUIRE(a.mint == b.mint);
+        REQUIRE(a.maxt == b.maxt);
+    }
+}
+
+TEST_CASE("A thin lens images a point of its focal plane to one pixel at any aperture",
+          "[camera][thinlens]") {
+    const float focalDistance = 4.0f;
+    auto pinhole = makeCamera("perspective", "");
+    for (float aperture : {0.01f, 0.1f, 0.5f}) {
+        CAPTURE(aperture);
+        auto thin = makeCamera("thinlens", fmt::format(R"(<float name="apertureRadius" value="{}"/>
+            <float name="focalDistance" value="{}"/>)",
+                                                       aperture, focalDistance));
+        PCG32 random(3, 4);
+        for (const Point2f &film : {Point2f(32.0f, 24.0f), Point2f(5.5f, 40.25f)}) {
+            // The point of the focal plane (at focalDistance along the view axis) that the
+            // pinhole ray through this film position reaches.
+            Ray3f center;
+            pinhole->sampleRay(center, film, Point2f(0.5f, 0.5f));
+            const Vector3f axis = Vector3f(Point3f(0, 0, 0) - Point3f(1, 2, 6)).normalized();
+            const Point3f focus = center.o + center.d * (focalDistance / center.d.dot(axis));
+            // Every lens sample's ray passes through it; a point off the plane is blurred.
+            const Point3f offPlane =
+                center.o + center.d * (2.0f * focalDistance / center.d.dot(axis));
+            float spread = 0.0f;
+            for (int i = 0; i < 200; ++i) {
+                Ray3f ray;
+                thin->sampleRay(ray, film, Point2f(random.nextFloat(), random.nextFloat()));
+                CHECK(distanceToRay(focus, ray) < 1e-4f * focalDistance);
+                spread = std::max(spread, distanceToRay(offPlane, ray));
+            }
+            CHECK(spread > 0.5f * aperture); // the control: out of focus, rays miss by ~aperture
+        }
+    }
+}
+
+TEST_CASE("Thin-lens parameters are checked", "[camera][thinlens]") {
+    CHECK_THAT(
+        errorOf([] { makeCamera("thinlens", R"(<float name="apertureRadius" value="-1"/>)"); }),
+        Contains("'apertureRadius' must be finite and not negative, got -1"));
+    CHECK_THAT(
+        errorOf([] { makeCamera("thinlens", R"(<float name="focalDistance" value="0"/>)"); }),
+        Contains("'focalDistance' must be positive, got 0"));
 }

@@ -81,7 +81,7 @@ TEST_CASE("Every plugin has a doc block with its name and at least one example",
         const std::string comment = docCommentOf(type, name);
         REQUIRE_FALSE(comment.empty());
         const PluginDoc doc = parsePluginDoc(comment);
-        CHECK(doc.name == name);
+        CHECK(doc.names(name));
         CHECK_FALSE(doc.summary.empty());
         CHECK_FALSE(doc.examples.empty());
     }

@@ -127,4 +127,14 @@ template <typename T> std::shared_ptr<T> createDefault(const std::string &name) 
         },                                                                                         \
         __FILE__);
 
+/// Registers `cls` under another name too (a course's or another renderer's name for the
+/// same plugin); its doc comment lists it ("Also registered as: ...").
+#define NORI_REGISTER_ALIAS(cls, alias, tag)                                                       \
+    static const bool cls##_alias_##tag = ::nori::NoriObjectFactory::registerStatic(               \
+        alias, cls::kClassType,                                                                    \
+        [](const ::nori::PropertyList &props) -> std::shared_ptr<::nori::NoriObject> {             \
+            return std::make_shared<cls>(props);                                                   \
+        },                                                                                         \
+        __FILE__);
+
 } // namespace nori

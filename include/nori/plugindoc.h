@@ -13,6 +13,8 @@
 //    *
 //    * Exempt from the sampling test: the reason. (optional: sampling plugins only)
 //    *
+//    * Also registered as: other, names.        (optional: NORI_REGISTER_ALIAS)
+//    *
 //    *   <bsdf type="name"> ... </bsdf>           (examples: paragraphs starting with '<')
 //    */
 //
@@ -21,6 +23,7 @@
 
 #include <nori/object.h>
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,6 +45,12 @@ struct PluginDoc {
     std::vector<ParameterDoc> parameters;
     std::vector<std::string> examples; ///< XML snippets, one object each
     std::string exemption;             ///< why the sampling test does not apply, or ""
+    std::vector<std::string> aliases;  ///< other names it is registered under
+    /// Whether `name` is the plugin's name or one of its aliases.
+    bool names(const std::string &name) const {
+        return name == this->name ||
+               std::find(aliases.begin(), aliases.end(), name) != aliases.end();
+    }
 
     /// Whether `parameter` is one of the documented names.
     bool documents(const std::string &parameter) const;

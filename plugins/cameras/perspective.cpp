@@ -1,7 +1,10 @@
 /*
- * perspective — a pinhole camera, as Nori's: it looks along +z of its local frame with
- * +y up; camera-space +x is the image's left (EPFL's Nori 2) or right (ETH's). A nested
- * <rfilter> replaces the default gaussian filter.
+ * perspective — a pinhole camera, as Nori's, or a thin lens with depth of field (PBR 4th
+ * ed. §5.2.3): it looks along +z of its local frame with +y up; camera-space +x is the
+ * image's left (EPFL's Nori 2) or right (ETH's). With apertureRadius > 0, rays start on
+ * a disk of that radius (concentric mapping) and pass through the point of the pinhole
+ * ray at focalDistance, so that plane is sharp. A nested <rfilter> replaces the default
+ * gaussian filter.
  *
  * Parameters:
  *   width       integer    1280      image width in pixels
@@ -12,14 +15,23 @@
  *   toWorld     transform  identity  camera-to-world transform
  *   convention  string     "epfl"    "epfl": x mirrored (Nori 2, Mitsuba); "eth": not
  *                                    mirrored (the ETH course); see nori --camera-convention
+ *   apertureRadius  float  0         radius of the lens; 0 is a pinhole (the same images)
+ *   focalDistance   float  10        distance (along the view axis) of the sharp plane
+ *
+ * Also registered as: thinlens.
  *
  *   <camera type="perspective">
  *       <transform name="toWorld"><lookat origin="0,0,4" target="0,0,0" up="0,1,0"/></transform>
  *       <float name="fov" value="45"/>
  *   </camera>
+ *
+ *   <camera type="thinlens">
+ *       <float name="apertureRadius" value="0.05"/> <float name="focalDistance" value="4"/>
+ *   </camera>
  */
 #include <nori/camera.h>
 #include <nori/transform.h>
+#include <nori/warp.h>
 
 namespace nori {
 
@@ -33,6 +45,15 @@ public:
         m_farClip = props.getFloat("farClip", 1e4f);
         m_cameraToWorld = props.getTransform("toWorld", Transform());
         m_convention = readConvention(props);
+        m_apertureRadius = props.getFloat("apertureRadius", 0.0f);
+        m_focalDistance = props.getFloat("focalDistance", 10.0f);
+        if (!(m_apertureRadius >= 0.0f) || !std::isfinite(m_apertureRadius))
+            throw NoriException("perspective: 'apertureRadius' must be finite and not "
+                                "negative, got {}",
+                                m_apertureRadius);
+        if (!(m_focalDistance > 0.0f) || !std::isfinite(m_focalDistance))
+            throw NoriException("perspective: 'focalDistance' must be positive, got {}",
+                                m_focalDistance);
 
         if (!(m_fov > 0.0f && m_fov < 180.0f))
             throw NoriException("perspective: 'fov' must lie in (0, 180) degrees, got {}", m_fov);
@@ -46,36 +67,47 @@ public:
 
     Color3f sampleRay(Ray3f &ray, const Point2f &samplePosition,
                       const Point2f &apertureSample) const override {
-        (void)apertureSample;
         // Film position to a point on the plane z = 1 of camera space; the horizontal
         // field of view spans x in [-tan(fov/2), tan(fov/2)].
         const float u = samplePosition.x() / static_cast<float>(m_outputSize.x());
         const float v = samplePosition.y() / static_cast<float>(m_outputSize.y());
-        const Vector3f d = Vector3f(filmX(u, m_convention) * m_tanHalfFov,
-                                    (1.0f - 2.0f * v) * m_tanHalfFov / m_aspect, 1.0f)
-                               .normalized();
+        Vector3f d = Vector3f(filmX(u, m_convention) * m_tanHalfFov,
+                              (1.0f - 2.0f * v) * m_tanHalfFov / m_aspect, 1.0f)
+                         .normalized();
+        Point3f origin(0.0f, 0.0f, 0.0f);
+        if (m_apertureRadius > 0.0f) {
+            // Thin lens: from a point of the lens disk toward where the pinhole ray meets
+            // the plane of focus z = focalDistance.
+            const Point3f focus = d * (m_focalDistance / d.z());
+            const Point2f lens =
+                m_apertureRadius * Warp::squareToUniformDiskConcentric(apertureSample);
+            origin = Point3f(lens.x(), lens.y(), 0.0f);
+            d = Vector3f(focus - origin).normalized();
+        }
         // The clip planes are planes z = const, so the ray's extent depends on d.z.
         const float invZ = 1.0f / d.z();
-        ray = Ray3f(m_cameraToWorld * Point3f(0.0f, 0.0f, 0.0f), m_cameraToWorld * d,
-                    m_nearClip * invZ, m_farClip * invZ);
+        ray = Ray3f(m_cameraToWorld * origin, m_cameraToWorld * d, m_nearClip * invZ,
+                    m_farClip * invZ);
         return Color3f(1.0f);
     }
 
     std::string toString() const override {
         return fmt::format("PerspectiveCamera[size={}x{}, fov={}, nearClip={}, farClip={}, "
-                           "convention={}, rfilter={}, toWorld=\n{}]",
+                           "apertureRadius={}, focalDistance={}, convention={}, rfilter={}, "
+                           "toWorld=\n{}]",
                            m_outputSize.x(), m_outputSize.y(), m_fov, m_nearClip, m_farClip,
-                           conventionName(m_convention), m_rfilter ? m_rfilter->toString() : "none",
-                           m_cameraToWorld.toString());
+                           m_apertureRadius, m_focalDistance, conventionName(m_convention),
+                           m_rfilter ? m_rfilter->toString() : "none", m_cameraToWorld.toString());
     }
 
 private:
-    float m_fov, m_nearClip, m_farClip;
+    float m_fov, m_nearClip, m_farClip, m_apertureRadius, m_focalDistance;
     float m_tanHalfFov, m_aspect;
     Transform m_cameraToWorld;
     Convention m_convention;
 };
 
 NORI_REGISTER_CLASS(PerspectiveCamera, "perspective");
+NORI_REGISTER_ALIAS(PerspectiveCamera, "thinlens", thinlens);
 
 } // namespace nori

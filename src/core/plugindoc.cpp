@@ -173,6 +173,14 @@ PluginDoc parsePluginDoc(const std::string &comment) {
         } else if (head.rfind("No parameters", 0) == 0) {
             sawParameters = true;
             inParameters = false;
+        } else if (head.rfind("Also registered as:", 0) == 0) {
+            std::string names;
+            for (const std::string &line : paragraph)
+                names += " " + trim(line);
+            names = names.substr(names.find(':') + 1);
+            for (std::string alias : tokenize(names, ", ."))
+                doc.aliases.push_back(alias);
+            inParameters = false;
         } else if (head.rfind("Exempt from the sampling test:", 0) == 0) {
             std::string reason;
             for (const std::string &line : paragraph)
@@ -307,6 +315,10 @@ std::string pluginsMarkdown() {
         } catch (const NoriException &error) {
             throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
                                 error.what());
+        }
+        if (name != doc.name) { // an alias: one line pointing at the plugin
+            out += fmt::format("\n### {}\n\nAnother name of `{}`.\n", name, doc.name);
+            continue;
         }
         // The description: the text before the parameters, joined into a paragraph.
         std::string description;
