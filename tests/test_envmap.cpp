@@ -154,6 +154,14 @@ TEST_CASE("Under a one-texel environment the floor gets L times the texel's proj
         CAPTURE(integrator);
         tTest(*floorUnder(file, integrator), reference, 20000);
     }
+    // The control: the irradiance of the texel's centre direction times its solid angle
+    // (the usual approximation, 2% off for this texel) is rejected.
+    const double approximate = 0.5 * kInvPi * 40.0 * (2.0 * kPi / 16.0) *
+                               (std::cos(theta0) - std::cos(theta1)) *
+                               std::cos(0.5 * (theta0 + theta1));
+    const PixelTTest wrong = tTestPixel(*floorUnder(file, "path_mis"), approximate, 20000);
+    INFO(wrong.summary());
+    CHECK_FALSE(wrong.result.passed);
     // Rotated upside down by toWorld, the texel is below the floor: no light.
     const RunningMoments below = estimatePixel(
         *floorUnder(

@@ -19,14 +19,15 @@ const char *kSpot = R"(<emitter type="spot"><point name="position" value="{}, 2,
     <float name="cutoffAngle" value="30"/> <float name="beamWidth" value="20"/></emitter>)";
 
 /// The radiance of the floor's origin under the spot at (x, 2, 0) aimed at (targetX, 0, 0).
-double spotReference(float x, float targetX, float intensity) {
+/// With `smoothstep` false, the falloff in the ring is linear in cos θ instead (a control).
+double spotReference(float x, float targetX, float intensity, bool smoothstep = true) {
     const Vector3f toOrigin = Vector3f(-x, -2.0f, 0.0f);
     const Vector3f axis = Vector3f(targetX - x, -2.0f, 0.0f).normalized();
     const float d2 = toOrigin.squaredNorm();
     const float cosAxis = axis.dot(toOrigin.normalized());
     const float cosBeam = std::cos(degToRad(20.0f)), cosCutoff = std::cos(degToRad(30.0f));
     const float t = std::clamp((cosAxis - cosCutoff) / (cosBeam - cosCutoff), 0.0f, 1.0f);
-    const float falloff = t * t * (3.0f - 2.0f * t);
+    const float falloff = smoothstep ? t * t * (3.0f - 2.0f * t) : t;
     const float cosSurface = 2.0f / std::sqrt(d2);
     return 0.5 * kInvPi * intensity * falloff / d2 * cosSurface;
 }
@@ -82,6 +83,13 @@ TEST_CASE("A spot light: full inside the beam, smoothstep in the ring, dark outs
     CHECK(spotReference(0.0f, 1.4f, 40.0f) == 0.0);
     const double ring = spotReference(0.0f, 0.93f, 40.0f), full = spotReference(0.0f, 0.0f, 40.0f);
     CHECK((ring > 0.05 * full && ring < 0.95 * full)); // the case really is in the ring
+    // The control: the same case against a linear falloff in the ring (not pbrt-v4's
+    // smoothstep) is rejected.
+    const PixelTTest wrong =
+        tTestPixel(*litFloor("direct_ems", fmt::format(kSpot, 0.0f, 0.93f, 40)),
+                   spotReference(0.0f, 0.93f, 40.0f, false), 2000);
+    INFO(wrong.summary());
+    CHECK_FALSE(wrong.result.passed);
 }
 
 TEST_CASE("Two lights of very unequal power add up for every integrator that sees them",
