@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the fuzz targets with clang, libFuzzer, ASan and UBSan, and fuzzes each one.
-#   scripts/fuzz.sh [--seconds N] [--build DIR] [xml] [obj] [image]
+#   scripts/fuzz.sh [--seconds N] [--build DIR] [xml] [obj] [image] [lens]
 # Prints libFuzzer's figures (executions, coverage) and exits non-zero when a target
 # crashed, leaked, hit undefined behaviour or threw anything but a NoriException; the
 # input that did it is in DIR/artifacts/. New interesting inputs go to DIR/corpus-<target>.
@@ -13,11 +13,11 @@ while (($#)); do
     case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
-    xml | obj | image) targets+=("$1"); shift ;;
-    *) echo "usage: $0 [--seconds N] [--build DIR] [xml] [obj] [image]" >&2; exit 2 ;;
+    xml | obj | image | lens) targets+=("$1"); shift ;;
+    *) echo "usage: $0 [--seconds N] [--build DIR] [xml] [obj] [image] [lens]" >&2; exit 2 ;;
     esac
 done
-((${#targets[@]})) || targets=(xml obj image)
+((${#targets[@]})) || targets=(xml obj image lens)
 
 cmake -S "$here" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DNORI_FUZZ=ON -DNORI_BUILD_TESTS=OFF > "$build.configure.log" 2>&1 ||
@@ -31,6 +31,7 @@ for target in "${targets[@]}"; do
     xml) seeds=("$here/tests/badinput" "$here/scenes/tests" "$here/tests/fuzz/corpus/xml") ;;
     obj) seeds=("$here/tests/fuzz/corpus/obj" "$here/tests/badinput" "$here/scenes/cbox/meshes") ;;
     image) seeds=("$here/tests/fuzz/corpus/image" "$here/scenes/textured/textures") ;;
+    lens) seeds=("$here/tests/fuzz/corpus/lens" "$here/scenes/lenses") ;;
     esac
     corpus="$build/corpus-$target"
     mkdir -p "$corpus"

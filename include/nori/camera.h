@@ -18,7 +18,8 @@ public:
     enum class Convention { EPFL, ETH };
 
     /// Generates a world-space ray for film position `samplePosition` (pixels, from the
-    /// top-left corner) and returns the importance weight of the ray.
+    /// top-left corner) and returns the importance weight of the ray. A weight of zero
+    /// (a lens system blocked the ray) leaves `ray` unspecified: it must not be traced.
     virtual Color3f sampleRay(Ray3f &ray, const Point2f &samplePosition,
                               const Point2f &apertureSample) const = 0;
 

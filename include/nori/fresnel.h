@@ -46,14 +46,16 @@ inline Vector3f reflect(const Vector3f &w, const Vector3f &n) {
 
 /// Refracts w (pointing away) through the interface with normal n, where eta is the
 /// ratio η_t/η_i for the side w is on (n on the same side as w). Returns false under
-/// total internal reflection.
-inline bool refract(const Vector3f &w, const Vector3f &n, float eta, Vector3f &wt) {
-    const float cosThetaI = w.dot(n);
-    const float sin2ThetaT = std::max(0.0f, 1.0f - cosThetaI * cosThetaI) / (eta * eta);
-    if (sin2ThetaT >= 1.0f)
+/// total internal reflection. A template so the lens optics can run it in double.
+template <typename Vector>
+inline bool refract(const Vector &w, const Vector &n, typename Vector::Scalar eta, Vector &wt) {
+    using Scalar = typename Vector::Scalar;
+    const Scalar cosThetaI = w.dot(n);
+    const Scalar sin2ThetaT = std::max(Scalar(0), Scalar(1) - cosThetaI * cosThetaI) / (eta * eta);
+    if (sin2ThetaT >= Scalar(1))
         return false;
-    const float cosThetaT = std::sqrt(1.0f - sin2ThetaT);
-    wt = Vector3f(-w / eta + (cosThetaI / eta - cosThetaT) * n).normalized();
+    const Scalar cosThetaT = std::sqrt(Scalar(1) - sin2ThetaT);
+    wt = Vector(-w / eta + (cosThetaI / eta - cosThetaT) * n).normalized();
     return true;
 }
 

@@ -123,7 +123,8 @@ private:
             const Point2f pixel(film.x() * size.x(), film.y() * size.y());
             Ray3f ray;
             Color3f value = scene.sampleCameraRay(ray, pixel, sampler->next2D());
-            value *= scene.getIntegrator()->Li(&scene, sampler.get(), ray);
+            if (!(value == 0.0f).all())
+                value *= scene.getIntegrator()->Li(&scene, sampler.get(), ray);
             moments.add(value.getLuminance());
         }
         return studentTTest(moments.mean, moments.variance(), moments.count, reference, alpha);

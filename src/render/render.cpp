@@ -56,7 +56,9 @@ bool renderBlock(const Scene &scene, Sampler &sampler, ImageBlock &block,
                 Point2f apertureSample = sampler.next2D();
                 Ray3f ray;
                 Color3f value = scene.sampleCameraRay(ray, pixelSample, apertureSample);
-                value *= integrator->Li(&scene, &sampler, ray);
+                // A weight of zero (a lens blocked the ray) leaves the ray unset: no light.
+                if (!(value == 0.0f).all())
+                    value *= integrator->Li(&scene, &sampler, ray);
                 if (value.isValid())
                     block.put(pixelSample, value);
                 else
