@@ -12,6 +12,7 @@
 
 using namespace nori;
 using Catch::Contains;
+using nori::testing::distanceToRay;
 using nori::testing::errorOf;
 using nori::testing::runNori;
 using nori::testing::TempDir;
@@ -127,13 +128,6 @@ std::shared_ptr<Camera> makeCamera(const std::string &type, const std::string &p
         type, parameters)));
     REQUIRE(camera);
     return camera;
-}
-
-/// The distance from point p to the line of the ray.
-float distanceToRay(const Point3f &p, const Ray3f &ray) {
-    const Vector3f d = ray.d.normalized();
-    const Vector3f offset = p - ray.o;
-    return (offset - offset.dot(d) * d).norm();
 }
 
 } // namespace

@@ -14,6 +14,7 @@
 
 using namespace nori;
 using Catch::Contains;
+using nori::testing::distanceToRay;
 using nori::testing::errorOf;
 using nori::testing::runNori;
 using nori::testing::TempDir;
@@ -52,11 +53,14 @@ std::shared_ptr<Camera> makeRealistic(const std::string &parameters, int width =
     return camera;
 }
 
-/// The distance from point p to the line of the ray.
-double distanceToRay(const Eigen::Vector3d &p, const Ray3f &ray) {
-    const Eigen::Vector3d o = ray.o.cast<double>(), d = ray.d.cast<double>().normalized();
-    const Eigen::Vector3d offset = p - o;
-    return (offset - offset.dot(d) * d).norm();
+/// The width of the 35 mm-diagonal 3:2 film of the tests' 600×400 images: 29.1 mm.
+const double kFilmWidth = 35.0e-3 / std::sqrt(1.0 + 4.0 / 9.0);
+
+/// The double-Gauss lens focused at `distance`, as the camera of makeRealistic has it.
+LensSystem focusedDoubleGauss(double distance) {
+    LensSystem lens(readLensFile(lensPath("dgauss.50mm.dat")), 0.0, "dgauss");
+    lens.focusAt(distance);
+    return lens;
 }
 
 /// Two independent Monte Carlo means agree when they differ by less than four standard
@@ -112,7 +116,7 @@ TEST_CASE("A point at the focus distance is imaged smaller than a pixel", "[came
     const double focus = 2.0;
     auto camera = makeRealistic(R"(<float name="focusDistance" value="2"/>
         <float name="apertureDiameter" value="8.5"/>)");
-    const double pixel = 35.0e-3 / std::sqrt(1.0 + 4.0 / 9.0) / 600.0;
+    const double pixel = kFilmWidth / 600.0;
     const double footprint = pixel * focus / 0.0514; // 1/s + 1/s' = 1/f: s' = 51.4 mm
     PCG32 random(3, 5);
     // On the axis (the film centre) and 60% of the way to the image's right edge.
@@ -122,7 +126,7 @@ TEST_CASE("A point at the focus distance is imaged smaller than a pixel", "[came
         // The point of the chief ray at the focus distance (the film is the plane z = 0).
         auto pointAt = [&](double distance) {
             const double t = (distance - chief.o.z()) / chief.d.z();
-            return Eigen::Vector3d(chief.o.cast<double>() + t * chief.d.cast<double>());
+            return Point3f((chief.o.cast<double>() + t * chief.d.cast<double>()).cast<float>());
         };
         double inFocus = 0.0, defocused = 0.0;
         int passed = 0;
@@ -132,8 +136,8 @@ TEST_CASE("A point at the focus distance is imaged smaller than a pixel", "[came
                 0.0f)
                 continue;
             ++passed;
-            inFocus = std::max(inFocus, distanceToRay(pointAt(focus), ray));
-            defocused = std::max(defocused, distanceToRay(pointAt(2.0 * focus), ray));
+            inFocus = std::max(inFocus, double(distanceToRay(pointAt(focus), ray)));
+            defocused = std::max(defocused, double(distanceToRay(pointAt(2.0 * focus), ray)));
         }
         INFO("film position " << film.transpose() << ": " << passed << " rays; the widest passes "
                               << inFocus * 1e3 << " mm from the point in focus, footprint "
@@ -148,7 +152,7 @@ TEST_CASE("A point at the focus distance is imaged smaller than a pixel", "[came
 
 TEST_CASE("Exit-pupil sampling loses far fewer rays than sampling the rear element",
           "[camera][realistic]") {
-    const Eigen::Vector2d film(29.12e-3, 19.41e-3); // 35 mm diagonal, 3:2
+    const Eigen::Vector2d film(kFilmWidth, kFilmWidth * 2.0 / 3.0);
     for (const char *file : {"dgauss.50mm.dat", "wide.22mm.dat"}) {
         LensSystem lens(readLensFile(lensPath(file)), 0.0, file);
         lens.focusAt(4.0);
@@ -170,10 +174,8 @@ TEST_CASE("Exit-pupil sampling is unbiased: the camera's weights match the film 
     // (1.5 rear radii), weight cos⁴θ·A/z² where the ray passes.
     const double focus = 3.0;
     auto camera = makeRealistic(R"(<float name="focusDistance" value="3"/>)");
-    LensSystem lens(readLensFile(lensPath("dgauss.50mm.dat")), 0.0, "dgauss");
-    lens.focusAt(focus);
+    const LensSystem lens = focusedDoubleGauss(focus);
     const ExitPupil pupil(lens, 0.5 * 35e-3);
-    const double filmWidth = 35.0e-3 / std::sqrt(1.0 + 4.0 / 9.0);
     const double extent = 1.5 * lens.rearApertureRadius(), z = lens.rearZ();
 
     PCG32 random(7, 11);
@@ -193,7 +195,7 @@ TEST_CASE("Exit-pupil sampling is unbiased: the camera's weights match the film 
     const RunningMoments centre = bruteForce(Eigen::Vector3d::Zero());
     for (const float u : {0.5f, 0.7f, 0.85f, 0.999f}) {
         // Pixel column u·600 of the middle row; the film point of the same radius.
-        const Eigen::Vector3d film((u - 0.5) * filmWidth, 0.0, 0.0);
+        const Eigen::Vector3d film((u - 0.5) * kFilmWidth, 0.0, 0.0);
         RunningMoments reference = bruteForce(film);
         reference.mean /= centre.mean;
         reference.m2 /= centre.mean * centre.mean;
@@ -251,7 +253,7 @@ TEST_CASE("A uniformly bright scene renders at its radiance in the centre and vi
 
 TEST_CASE("Ray differentials of the realistic camera span one pixel", "[camera][realistic]") {
     auto camera = makeRealistic(R"(<float name="focusDistance" value="4"/>)");
-    const double pixelAngle = 35.0e-3 / std::sqrt(1.0 + 4.0 / 9.0) / 600.0 / 0.0506;
+    const double pixelAngle = kFilmWidth / 600.0 / 0.0506;
     PCG32 random(2, 9);
     for (int i = 0; i < 100; ++i) {
         const Point2f film(100.0f + 400.0f * random.nextFloat(),
@@ -326,11 +328,8 @@ TEST_CASE("The realistic camera frames the scene as a pinhole of its field of vi
     // to the lens's distortion (under 1% for a double Gauss).
     const double focus = 1000.0;
     auto realistic = makeRealistic(R"(<float name="focusDistance" value="1000"/>)");
-    LensSystem lens(readLensFile(lensPath("dgauss.50mm.dat")), 0.0, "dgauss");
-    lens.focusAt(focus);
-    const double imageDistance = lens.cardinalPoints().rearPrincipalZ;
-    const double filmWidth = 35.0e-3 / std::sqrt(1.0 + 4.0 / 9.0);
-    const double fov = 2.0 * std::atan(0.5 * filmWidth / imageDistance) * 180.0 / M_PI;
+    const double imageDistance = focusedDoubleGauss(focus).cardinalPoints().rearPrincipalZ;
+    const double fov = 2.0 * std::atan(0.5 * kFilmWidth / imageDistance) * 180.0 / M_PI;
     auto pinhole = std::dynamic_pointer_cast<Camera>(loadFromXMLString(fmt::format(
         R"(<camera type="perspective"><integer name="width" value="600"/><integer name="height" value="400"/>
             <float name="fov" value="{}"/></camera>)",

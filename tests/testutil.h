@@ -56,6 +56,13 @@ struct PixelTTest {
 };
 PixelTTest tTestPixel(Scene &scene, double reference, size_t samples);
 
+/// The distance from point p to the line of the ray.
+inline float distanceToRay(const Point3f &p, const Ray3f &ray) {
+    const Vector3f d = ray.d.normalized();
+    const Vector3f offset = p - ray.o;
+    return (offset - offset.dot(d) * d).norm();
+}
+
 /// The message of the NoriException thrown by f, or "" if none was thrown.
 template <typename F> std::string errorOf(F &&f) {
     try {
