@@ -85,11 +85,11 @@ private:
 /// third of a box's waste for the cat's-eye pupils off it.
 class ExitPupil {
 public:
-    /// Tabulates `intervals` radii in [0, filmRadius], each from `samplesPerInterval`
-    /// rays in two passes (the second denser, inside what the first found); in parallel
-    /// and deterministic.
+    /// Tabulates `intervals` radii in [0, filmRadius], each from a coarse pass of
+    /// samplesPerInterval / 4 rays and a fine one of `samplesPerInterval` rays inside
+    /// what the first found; in parallel and deterministic.
     ExitPupil(const LensSystem &lens, double filmRadius, int intervals = 64,
-              int samplesPerInterval = 1 << 15);
+              int samplesPerInterval = 1 << 13);
 
     /// An ellipse on the rear plane, for a film point on the +x axis; empty (area 0)
     /// where no light passes.

@@ -211,24 +211,33 @@ ExitPupil::ExitPupil(const LensSystem &lens, double filmRadius, int intervals,
                      int samplesPerInterval)
     : m_regions(intervals), m_filmRadius(filmRadius), m_rearZ(lens.rearZ()) {
     // Candidate points on the rear plane: first a square 1.5 times the rear element's
-    // radius (the pupil can look wider than the element from far off axis), then that
-    // pass's box padded by two sample spacings, searched again at a finer spacing.
+    // radius (the pupil can look wider than the element from far off axis), with a
+    // quarter of the rays; then that pass's box padded by two of its spacings, searched
+    // again at a finer one. The film points lie on +x, where the pupil is symmetric about
+    // y = 0: only y ≥ 0 is traced, each point standing for its mirror image too.
     const double extent = 1.5 * lens.rearApertureRadius();
-    const int samplesPerPass = std::max(1, samplesPerInterval / 2);
-    const double spacingFactor = 1.0 / std::sqrt(double(samplesPerPass));
+    const int finePasses = std::max(1, samplesPerInterval);
+    const int coarsePasses = std::max(1, samplesPerInterval / 4);
     tbb::parallel_for(0, intervals, [&](int interval) {
         const double r0 = filmRadius * interval / intervals;
         const double r1 = filmRadius * (interval + 1) / intervals;
-        // The rays of one pass over `region`; the passing points' box, and the points.
-        auto search = [&](const Box &region, std::vector<Eigen::Vector2d> *passing) {
+        // `count` rays over the upper half of `region`: the box of the passing points and
+        // their mirror images, and (if `passing`) the points; `spacing` receives the
+        // distance between neighbouring candidates, about sqrt(area / count).
+        auto search = [&](const Box &region, int count, double &spacing,
+                          std::vector<Eigen::Vector2d> *passing) {
+            Box half = region;
+            half.min.y() = std::max(0.0, region.min.y());
+            spacing = std::sqrt((half.max - half.min).prod() / count);
             Box found;
-            for (int i = 0; i < samplesPerPass; ++i) {
-                const Eigen::Vector3d film(r0 + (r1 - r0) * (i + 0.5) / samplesPerPass, 0.0, 0.0);
+            for (int i = 0; i < count; ++i) {
+                const Eigen::Vector3d film(r0 + (r1 - r0) * (i + 0.5) / count, 0.0, 0.0);
                 const Eigen::Vector2d u(radicalInverse(2, i), radicalInverse(3, i));
-                const Eigen::Vector2d rear = region.min + u.cwiseProduct(region.max - region.min);
+                const Eigen::Vector2d rear = half.min + u.cwiseProduct(half.max - half.min);
                 const Eigen::Vector3d target(rear.x(), rear.y(), m_rearZ);
                 if (lens.traceFromFilm({film, (target - film).normalized()}, nullptr)) {
                     found.expandBy(rear);
+                    found.expandBy(Eigen::Vector2d(rear.x(), -rear.y()));
                     if (passing)
                         passing->push_back(rear);
                 }
@@ -238,25 +247,25 @@ ExitPupil::ExitPupil(const LensSystem &lens, double filmRadius, int intervals,
         Box square;
         square.min = Eigen::Vector2d::Constant(-extent);
         square.max = Eigen::Vector2d::Constant(extent);
-        Box coarse = search(square, nullptr);
+        double coarseSpacing = 0.0, fineSpacing = 0.0;
+        Box coarse = search(square, coarsePasses, coarseSpacing, nullptr);
         if (coarse.isEmpty())
             return; // no light reaches the film here: an empty region
-        const double coarseSpacing = 2.0 * extent * spacingFactor;
         coarse.min = (coarse.min.array() - 2.0 * coarseSpacing).max(-extent);
         coarse.max = (coarse.max.array() + 2.0 * coarseSpacing).min(extent);
         std::vector<Eigen::Vector2d> points;
-        const Box fine = search(coarse, &points);
+        const Box fine = search(coarse, finePasses, fineSpacing, &points);
         if (fine.isEmpty())
             return;
         // The smallest ellipse with the box's centre and aspect holding every passing
-        // point, padded by 1.5 fine spacings: between low-discrepancy points the pupil's
-        // edge lies at most about one spacing beyond the last one inside.
-        const Eigen::Vector2d center = 0.5 * (fine.min + fine.max);
+        // point (and so their mirror images), padded by 1.5 fine spacings: between
+        // low-discrepancy points the pupil's edge lies about one spacing beyond the last
+        // one inside.
+        const Eigen::Vector2d center(0.5 * (fine.min.x() + fine.max.x()), 0.0);
         const Eigen::Vector2d halfExtent = (0.5 * (fine.max - fine.min)).cwiseMax(1e-9 * extent);
         double scale = 0.0;
         for (const Eigen::Vector2d &p : points)
             scale = std::max(scale, (p - center).cwiseQuotient(halfExtent).norm());
-        const double fineSpacing = (coarse.max - coarse.min).maxCoeff() * spacingFactor;
         m_regions[interval].center = center;
         m_regions[interval].semiAxes = scale * halfExtent.array() + 1.5 * fineSpacing;
     });
