@@ -54,7 +54,7 @@ std::shared_ptr<Camera> makeRealistic(const std::string &parameters, int width =
 }
 
 /// The width of the 35 mm-diagonal 3:2 film of the tests' 600×400 images: 29.1 mm.
-const double kFilmWidth = 35.0e-3 / std::sqrt(1.0 + 4.0 / 9.0);
+const double kFilmWidth = filmExtent(35.0e-3, 600, 400).x();
 
 /// The double-Gauss lens focused at `distance`, as the camera of makeRealistic has it.
 LensSystem focusedDoubleGauss(double distance) {

@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
+
 #include <string>
 #include <vector>
 
@@ -111,6 +113,14 @@ private:
     std::vector<Region> m_regions;
     double m_filmRadius, m_rearZ;
 };
+
+/// The width and height (metres) of a film of diagonal `diagonal` (metres) whose image
+/// has `width` × `height` pixels.
+inline Eigen::Vector2d filmExtent(double diagonal, int width, int height) {
+    const double aspect = double(height) / width;
+    const double filmWidth = diagonal / std::sqrt(1.0 + aspect * aspect);
+    return Eigen::Vector2d(filmWidth, aspect * filmWidth);
+}
 
 /// How many rays from the film toward the rear element the lens blocks, over `samples`
 /// film points spread evenly (Halton) over a film of `filmSize` (metres, centred): rays

@@ -70,11 +70,7 @@ public:
             std::make_unique<LensSystem>(readLensFile(m_lensFile), m_apertureDiameter, m_lensFile);
         m_lens->focusAt(m_focusDistance);
 
-        // The film's physical size: the diagonal split by the image's aspect ratio.
-        const double diagonal = 1e-3 * m_filmDiagonal;
-        const double aspect = double(m_outputSize.y()) / m_outputSize.x();
-        m_filmSize.x() = diagonal / std::sqrt(1.0 + aspect * aspect);
-        m_filmSize.y() = aspect * m_filmSize.x();
+        m_filmSize = filmExtent(1e-3 * m_filmDiagonal, m_outputSize.x(), m_outputSize.y());
         // Focusing traced paraxial rays through every aperture, so light reaches the
         // film's centre and the weights' normalisation (axialIrradiance) is positive.
     }

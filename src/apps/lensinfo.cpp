@@ -79,9 +79,7 @@ int main(int argc, char **argv) {
                     options.focus, 1e3 * lens.rearZ(), 1e3 * (lens.frontZ() - lens.rearZ()));
 
         const double diagonal = 1e-3 * options.filmDiagonal;
-        const double aspect = double(options.height) / options.width;
-        const Eigen::Vector2d film(diagonal / std::sqrt(1.0 + aspect * aspect),
-                                   aspect * diagonal / std::sqrt(1.0 + aspect * aspect));
+        const Eigen::Vector2d film = filmExtent(diagonal, options.width, options.height);
         const auto start = std::chrono::steady_clock::now();
         const ExitPupil pupil(lens, 0.5 * diagonal);
         const double seconds =
