@@ -1,5 +1,6 @@
 // The `nori` program as a user runs it: output files, options, errors and Ctrl-C.
 #include <nori/bitmap.h>
+#include <nori/statistics.h>
 
 #include "testutil.h"
 
@@ -119,39 +120,58 @@ TEST_CASE("nori --list-plugins prints every plugin by kind", "[cli]") {
                                   Contains("\n  point            an isotropic point light."));
 }
 
-TEST_CASE("Ctrl-C writes the finished blocks as a partial image and exits non-zero", "[cli]") {
+TEST_CASE("Ctrl-C writes the finished passes: a whole frame with the full render's mean", "[cli]") {
     TempDir dir;
     dir.write("meshes/floor.obj", kFloor);
     const std::string scene = dir.write("slow.xml", kScene);
-    // 16 blocks of 1024 pixels at 1000 spp take seconds; interrupt once the first
-    // progress line (printed when a block finishes) appears.
-    auto result = runNori({"-D", "size=128", "--spp", "1000", scene}, "elapsed");
+    // Passes of 1, 1, 2, 4, ..., 64 spp: the 10% progress line (100 of 1000 spp) comes
+    // during the eighth pass (64 to 128 spp); interrupted there, nori keeps 64 spp.
+    auto result = runNori({"-D", "size=128", "--spp", "1000", scene}, " 10% (");
     INFO(result.output);
     CHECK(result.exitCode == 130);
-    CHECK_THAT(result.output, Contains("Interrupted: wrote the") && Contains("of 16 blocks"));
+    CHECK_THAT(result.output, Contains("Interrupted: wrote the") && Contains(" of 1000 spp"));
     CHECK_FALSE(std::filesystem::exists(dir.path() / "slow.exr"));
     REQUIRE(std::filesystem::exists(dir.path() / "slow_partial.png"));
-    Bitmap partial = Bitmap::load((dir.path() / "slow_partial.exr").string());
-    // Finished blocks hold the render, the rest (at least half of the image, as it was
-    // interrupted right after the first block) is black.
-    int black = 0, lit = 0;
-    for (int y = 0; y < partial.height(); ++y)
+    const Bitmap partial = Bitmap::load((dir.path() / "slow_partial.exr").string());
+
+    // The reference: the whole render at 256 spp.
+    auto full = runNori({"-D", "size=128", "--spp", "256", "--no-progress", "-o",
+                         (dir.path() / "full").string(), scene});
+    REQUIRE(full.exitCode == 0);
+    const Bitmap reference = Bitmap::load((dir.path() / "full.exr").string());
+
+    // A whole frame: no black pixel (AO is positive wherever a ray hits the scene, and
+    // the floor fills the lower half), and per-pixel differences of mean zero (t-test;
+    // both images estimate the same expectation, whatever their sample counts).
+    auto differenceTest = [&](float scale) {
+        RunningMoments differences;
+        for (int y = 0; y < partial.height(); ++y)
+            for (int x = 0; x < partial.width(); ++x)
+                differences.add(scale * partial(y, x).r() - reference(y, x).r());
+        return studentTTest(differences.mean, differences.variance(), differences.count, 0.0, 0.01);
+    };
+    int black = 0;
+    for (int y = partial.height() / 2; y < partial.height(); ++y)
         for (int x = 0; x < partial.width(); ++x)
-            (partial(y, x).maxCoeff() == 0.0f ? black : lit)++;
-    CHECK(black > 128 * 128 / 2);
-    CHECK(lit > 0);
+            black += partial(y, x).maxCoeff() == 0.0f ? 1 : 0;
+    CHECK(black == 0);
+    const StudentTResult same = differenceTest(1.0f);
+    INFO("t = " << same.t);
+    CHECK(same.passed);
+    // Negative control: normalised 1% wrong (as by one sample too many), it is rejected.
+    CHECK_FALSE(differenceTest(1.01f).passed);
 }
 
 TEST_CASE("Ctrl-C is honoured within a pixel, even at 10^9 samples per pixel", "[cli]") {
-    // One 32x32 block at 10^9 spp would take hours; cancellation was checked only between
-    // block rows. Interrupt as soon as rendering starts: nori must stop at once.
+    // A pass of 64 spp at 10^9 spp would take long; cancellation is checked every sample.
+    // Interrupt as soon as rendering starts: nori must stop at once.
     TempDir dir;
     dir.write("meshes/floor.obj", kFloor);
     const std::string scene = dir.write("slow.xml", kScene);
     auto result = runNori({"-D", "size=32", "--spp", "1000000000", scene}, "spp,");
     INFO(result.output);
     CHECK(result.exitCode == 130);
-    CHECK_THAT(result.output, Contains("Interrupted: wrote the 0 of 1 blocks"));
+    CHECK_THAT(result.output, Contains("Interrupted before the first pass finished"));
 }
 
 TEST_CASE("The exposure option brightens the PNG by 2^E and leaves the EXR alone; version",

@@ -192,7 +192,7 @@ TEST_CASE("path_mats, path_ems and path_mis agree under an environment map", "[e
         estimatePixel(*floorUnder(map, "path_mis", "", sphere), 400000);
     for (const char *integrator : {"path_mats", "path_ems", "path_mis"}) {
         CAPTURE(integrator);
-        tTest(*floorUnder(map, integrator, "", sphere), reference.mean, 40000);
+        tTest(*floorUnder(map, integrator, "", sphere), reference.mean, 160000);
     }
 }
 

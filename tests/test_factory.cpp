@@ -64,7 +64,8 @@ TEST_CASE("Factory creates by name and checks the kind and the properties", "[fa
     CHECK_THAT(errorOf([] {
                    NoriObjectFactory::createInstance("zzz", NoriObject::ESampler, PropertyList());
                }),
-               Contains("unknown sampler plugin 'zzz' (known sampler plugins: independent)"));
+               Contains("unknown sampler plugin 'zzz' (known sampler plugins: independent, sobol, "
+                        "stratified)"));
     PropertyList typo;
     typo.setColor("albdo", Color3f(0.25f));
     CHECK_THAT(

@@ -194,6 +194,6 @@ TEST_CASE("Hostile image files end in an error naming the file", "[imagefile]") 
     }
     SECTION("an unknown signature") {
         CHECK_THAT(errorOf([] { decodeImageFile("GIF89a......", "anim.gif"); }),
-                   Contains("'anim.gif' is not a PNG, JPEG, Radiance HDR or OpenEXR image"));
+                   Contains("'anim.gif' is not a PNG, JPEG, Radiance HDR, OpenEXR or PFM image"));
     }
 }

@@ -32,11 +32,15 @@ double spotReference(float x, float targetX, float intensity, bool smoothstep = 
     return 0.5 * kInvPi * intensity * falloff / d2 * cosSurface;
 }
 
+/// The t-test, with a standard error of at most 0.75% of the reference: so a passing
+/// estimate (|t| < 2.58 at α = 0.01) also lies within 2% of the reference.
 void checkEstimate(Scene &scene, double reference, size_t samples = 2000) {
     const PixelTTest test = tTestPixel(scene, reference, samples);
     INFO(test.summary());
     CHECK(test.result.passed);
-    CHECK(test.moments.mean == Approx(reference).epsilon(0.02).margin(1e-6));
+    const double standardError =
+        std::sqrt(test.moments.variance() / static_cast<double>(test.moments.count));
+    CHECK(standardError <= 0.0075 * reference + 1e-7);
 }
 
 const std::vector<std::string> kDeltaLightIntegrators = {"direct_ems", "direct_mis", "path_ems",
@@ -101,7 +105,10 @@ TEST_CASE("Two lights of very unequal power add up for every integrator that see
     const double reference = spotReference(1.0f, 0.0f, 2000.0f) + 0.5 * kInvPi * 0.01;
     for (const std::string &integrator : kDeltaLightIntegrators) {
         CAPTURE(integrator);
-        checkEstimate(*litFloor(integrator, lights), reference, 20000);
+        // The directional light has most of the power (over the huge floor) and a tiny
+        // share of the radiance, so most light samples are spent on it: the variance is
+        // about 1.6·10^5, and 10^6 samples bring the standard error to 0.7%.
+        checkEstimate(*litFloor(integrator, lights), reference, 1000000);
     }
 }
 

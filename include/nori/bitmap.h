@@ -1,4 +1,5 @@
-// An RGB image of floats, with EXR (linear) and PNG (sRGB, 8 bit) input and output.
+// An RGB image of floats, with EXR and PFM (linear) and PNG (sRGB, 8 bit) input and
+// output.
 #pragma once
 
 #include <nori/color.h>
@@ -26,6 +27,9 @@ public:
     static Bitmap load(const std::string &filename);
     /// Writes all channels as 32-bit float linear RGB.
     void saveEXR(const std::string &filename) const;
+    /// Writes a portable float map (linear RGB, little-endian), as Intel Open Image
+    /// Denoise's example tool reads it.
+    void savePFM(const std::string &filename) const;
     /// Writes 8-bit sRGB of the values scaled by 2^exposure, clamping to [0, 1].
     void savePNG(const std::string &filename, float exposure = 0.0f) const;
 };

@@ -42,6 +42,11 @@ public:
     virtual float pdf(const BSDFQueryRecord &bRec) const = 0;
     /// Whether the BSDF is (mostly) diffuse, so that light sampling pays off.
     virtual bool isDiffuse() const { return false; }
+    /// The directional albedo for light from bRec.wi: the fraction of it scattered,
+    /// ∫ f(wi, wo) |cos θo| dwo, at the textured point of bRec (the `albedo` AOV, a
+    /// denoiser's guide). The default estimates it from sample() with a fixed 8 × 8 grid
+    /// of points; a BSDF with a closed form (diffuse: its albedo) overrides it.
+    virtual Color3f albedo(const BSDFQueryRecord &bRec) const;
 
     /// The textures behind the BSDF's colour and float parameters.
     const TextureParameters &textures() const { return m_textures; }

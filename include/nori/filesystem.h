@@ -24,6 +24,9 @@ std::string readBinaryFile(const std::string &path, const std::string &what);
 /// binary file (an image, an EXR passed by mistake) is not one.
 std::string readTextFile(const std::string &path, const std::string &what);
 
+/// Writes `bytes` to `path` (replacing it); throws NoriException naming `what` and
+/// `path` when it cannot.
+void writeBinaryFile(const std::string &path, const std::string &bytes, const std::string &what);
 /// Writes `text` to `path` unless the file already holds exactly that (so generated
 /// files keep their time stamps); throws NoriException when it cannot.
 void writeFileIfChanged(const std::string &path, const std::string &text);

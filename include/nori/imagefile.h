@@ -1,9 +1,10 @@
-// Decoding image files read from outside (textures, environment maps): PNG, JPEG,
-// Radiance HDR and OpenEXR, recognised by their first bytes. Every decoder bounds the
-// image size before allocating and turns any defect of the file into a NoriException
-// naming it — never a crash, a hang or a leak (each format has a fuzz target).
+// Decoding image files read from outside (textures, environment maps, renders to
+// compare): PNG, JPEG, Radiance HDR, OpenEXR and PFM, recognised by their first bytes. Every
+// decoder bounds the image size before allocating and turns any defect of the file into a
+// NoriException naming it — never a crash, a hang or a leak (each format has a fuzz target).
 #pragma once
 #include <nori/bitmap.h>
+#include <nori/layeredimage.h>
 
 #include <cstddef>
 #include <string>
@@ -26,6 +27,14 @@ constexpr std::size_t kMaxImageFilePixels = std::size_t(1) << 27;
 /// images of more than `maxPixels` pixels.
 ImageFile decodeImageFile(const std::string &bytes, const std::string &name,
                           std::size_t maxPixels = kMaxImageFilePixels);
+
+/// Most channels an EXR file may have (our renders with every AOV have 17).
+constexpr int kMaxEXRChannels = 256;
+
+/// Decodes every channel of an EXR file and its string attributes. Throws NoriException
+/// naming the file on any defect, and when its pixels × channels exceed 4 · maxPixels.
+LayeredImage decodeLayeredEXR(const std::string &bytes, const std::string &name,
+                              std::size_t maxPixels = kMaxImageFilePixels);
 
 /// Reads and decodes an image file (see decodeImageFile).
 ImageFile readImageFile(const std::string &filename);

@@ -1,6 +1,7 @@
 // Integrators estimate the radiance arriving along a camera ray.
 #pragma once
 
+#include <nori/aov.h>
 #include <nori/color.h>
 #include <nori/object.h>
 #include <nori/ray.h>
@@ -19,7 +20,17 @@ public:
     /// The radiance arriving at ray.o from direction -ray.d.
     virtual Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const = 0;
 
+    /// The AOV layers the scene asks for: <string name="aovs" value="albedo,normal"/>,
+    /// which every integrator accepts (the render loop computes them, see aov.h).
+    const std::vector<AOV> &aovs() const { return m_aovs; }
+    void readCommonProperties(const PropertyList &props) override {
+        m_aovs = parseAOVList(props.getString("aovs", ""), "'aovs'");
+    }
+
     EClassType getClassType() const override { return kClassType; }
+
+private:
+    std::vector<AOV> m_aovs;
 };
 
 } // namespace nori

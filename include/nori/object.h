@@ -39,6 +39,10 @@ public:
     /// Called once all children are attached: compute derived data, check completeness.
     virtual void activate() {}
     virtual std::string toString() const = 0;
+    /// Reads the properties that every plugin of a kind accepts (a sampler's
+    /// `sampleCount`, an integrator's `aovs`): the factory calls it on the base class
+    /// right after the plugin's constructor, so no plugin has to read them itself.
+    virtual void readCommonProperties(const PropertyList &props) { (void)props; }
 
     /// The name the plugin was created by ("roughconductor"), set by the factory.
     const std::string &pluginName() const { return m_pluginName; }

@@ -19,8 +19,10 @@ struct Intersection;
 /// power, samples a point on it, tests visibility and returns its contribution
 /// f·L·|cos θ|/(pdf·pmf) toward wiLocal. With `mis`, the contribution carries the
 /// balance-heuristic weight against BSDF sampling (delta lights keep weight 1).
-Color3f sampleDirectLight(const Scene *scene, Sampler *sampler, const Intersection &its,
-                          const BSDF &bsdf, const Vector3f &wiLocal, bool mis);
+/// `emitterSample` picks the light, `sample` the point on it.
+Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
+                          const Vector3f &wiLocal, bool mis, float emitterSample,
+                          const Point2f &sample);
 
 class PathTracer : public Integrator {
 public:

@@ -56,6 +56,10 @@ struct PluginDoc {
     bool documents(const std::string &parameter) const;
 };
 
+/// The parameters that every plugin of a kind takes, read by its base class (see
+/// NoriObject::readCommonProperties) and documented once for the kind.
+const std::vector<ParameterDoc> &commonParameters(NoriObject::EClassType type);
+
 /// Parses a doc comment (the text from "/*" to "*/"). Throws NoriException saying what
 /// is malformed.
 PluginDoc parsePluginDoc(const std::string &comment);

@@ -1,40 +1,66 @@
-// The render loop: image blocks in parallel, each pixel's samples through the camera,
-// integrator and reconstruction filter, merged into one image.
+// The render loop: passes over the whole image, each adding a few samples per pixel;
+// within a pass, image blocks in parallel, each pixel's samples through the camera,
+// integrator and reconstruction filter into the film.
 #pragma once
 
+#include <nori/aov.h>
 #include <nori/bitmap.h>
+#include <nori/layeredimage.h>
 
 #include <atomic>
+#include <functional>
 
 namespace nori {
 
+class Film;
 class Scene;
+
+/// What the render loop reports after every finished pass.
+struct PassReport {
+    size_t pass = 0;            ///< 1 for the first pass
+    size_t samplesPerPixel = 0; ///< sample indices [0, samplesPerPixel) are done
+    size_t targetSamplesPerPixel = 0;
+    double seconds = 0.0; ///< since the render started
+};
 
 struct RenderOptions {
     int threads = 0;            ///< worker threads; 0 = all cores
     size_t samplesPerPixel = 0; ///< 0 = the scene sampler's own count
     bool showProgress = true;   ///< progress bar on stderr
-    /// When it becomes true, no new block or pixel is started and the blocks finished so
-    /// far are returned (what SIGINT does).
+    /// When it becomes true, no new sample is started and the passes finished so far are
+    /// returned (what SIGINT does): the pass under way is dropped.
     const std::atomic<bool> *cancel = nullptr;
+    /// A time budget in seconds (0: none): passes are rendered until it is spent, the
+    /// last one shortened to fit, or until samplesPerPixel, whichever comes first.
+    double timeBudget = 0.0;
+    /// AOV layers to record besides the integrator's own `aovs`.
+    std::vector<AOV> aovs;
+    /// The pass schedule: 1, 1, 2, 4, ... samples per pixel, at most this many per pass.
+    size_t maxPassSamples = 64;
+    /// Called (on the calling thread) after every finished pass with the film so far.
+    std::function<void(const Film &film, const PassReport &report)> passFinished;
 };
 
 struct RenderResult {
-    Bitmap image;
-    bool complete = true; ///< false when cancelled: only finished blocks are in image
-    size_t blocksDone = 0;
-    size_t blocksTotal = 0;
-    size_t samplesPerPixel = 0;
-    size_t samplesTaken = 0;   ///< camera samples of finished blocks
-    size_t invalidSamples = 0; ///< NaN, infinite or negative radiance; not splatted
+    Bitmap image;         ///< the beauty
+    LayeredImage layers;  ///< the beauty (R, G, B) and the AOV layers
+    bool complete = true; ///< false when cancelled or out of time before samplesPerPixel
+    bool cancelled = false;
+    size_t passes = 0;
+    size_t samplesPerPixel = 0;       ///< samples per pixel reached (adaptive: at most)
+    size_t targetSamplesPerPixel = 0; ///< what was asked for
+    size_t samplesTaken = 0;          ///< camera samples in the image
+    size_t convergedPixels = 0;       ///< pixels adaptive sampling stopped early
+    size_t invalidSamples = 0;        ///< NaN, infinite or negative radiance; not splatted
     double seconds = 0.0;
 };
 
 /// The number of threads used when RenderOptions::threads is 0.
 int defaultThreadCount();
 
-/// Renders the scene. Each pixel is seeded by its position, and blocks are merged in a
-/// fixed order, so the image is bit-identical for any thread count.
+/// Renders the scene. Sample i of pixel p is a pure function of (seed, p, i), each block
+/// sums its samples in a fixed order and blocks are merged in a fixed order, so the
+/// image is bit-identical for any thread count.
 RenderResult renderScene(Scene &scene, const RenderOptions &options = {});
 
 } // namespace nori

@@ -38,14 +38,14 @@ public:
         bRec.wo = Warp::squareToCosineHemisphere(sample);
         bRec.eta = 1.0f;
         // eval·cos/pdf = (albedo/π)·cos / (cos/π) = albedo.
-        return albedo(bRec);
+        return reflectance(bRec);
     }
 
     Color3f eval(const BSDFQueryRecord &bRec) const override {
         if (bRec.measure != ESolidAngle || Frame::cosTheta(bRec.wi) <= 0.0f ||
             Frame::cosTheta(bRec.wo) <= 0.0f)
             return Color3f(0.0f);
-        return albedo(bRec) * kInvPi;
+        return reflectance(bRec) * kInvPi;
     }
 
     float pdf(const BSDFQueryRecord &bRec) const override {
@@ -57,12 +57,20 @@ public:
 
     bool isDiffuse() const override { return true; }
 
+    /// A Lambertian surface reflects the fraction `albedo` of light from any direction
+    /// of its front side.
+    Color3f albedo(const BSDFQueryRecord &bRec) const override {
+        return Frame::cosTheta(bRec.wi) > 0.0f ? reflectance(bRec) : Color3f(0.0f);
+    }
+
     std::string toString() const override {
         return fmt::format("Diffuse[albedo={}]", m_albedo->toString());
     }
 
 private:
-    Color3f albedo(const TextureQuery &q) const { return m_albedo->eval(q).max(0.0f).min(1.0f); }
+    Color3f reflectance(const TextureQuery &q) const {
+        return m_albedo->eval(q).max(0.0f).min(1.0f);
+    }
 
     std::shared_ptr<const Texture> m_albedo;
 };

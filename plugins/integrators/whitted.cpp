@@ -34,16 +34,20 @@ public:
         if (const Emitter *emitter = its.shape->getEmitter())
             radiance += emitter->eval(EmitterQueryRecord(ray.o, its));
 
+        // The same two dimensions at every hit, whichever branch uses them (so that a
+        // low-discrepancy sampler's dimensions mean the same thing in every sample).
+        const float u = sampler->next1D();
+        const Point2f sample = sampler->next2D();
         const BSDF *bsdf = its.shape->getBSDF();
         const Vector3f wiLocal = its.toLocal(-ray.d);
         if (bsdf->isDiffuse())
-            return radiance + sampleDirectLight(scene, sampler, its, *bsdf, wiLocal, false);
+            return radiance + sampleDirectLight(scene, its, *bsdf, wiLocal, false, u, sample);
         // Specular: follow the sampled direction with probability 0.95.
         constexpr float kContinue = 0.95f;
-        if (sampler->next1D() >= kContinue)
+        if (u >= kContinue)
             return radiance;
         BSDFQueryRecord bRec(its, wiLocal);
-        const Color3f weight = bsdf->sample(bRec, sampler->next2D());
+        const Color3f weight = bsdf->sample(bRec, sample);
         if ((weight == 0.0f).all() || !its.sidesAgree(its.toWorld(bRec.wo)))
             return radiance;
         return radiance +

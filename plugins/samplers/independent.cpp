@@ -1,15 +1,16 @@
 /*
- * independent — uniform, independent samples from a PCG32 stream per pixel, so
- * every pixel's samples are the same whatever thread or block renders it.
+ * independent — uniform, independent random samples: each sample of each pixel starts a
+ * PCG32 generator at a hash of (seed, pixel, sample index), so a sample is the same
+ * whatever thread, block or pass renders it.
  *
- * Parameters:
- *   sampleCount  integer  1  samples per pixel
- *   seed         integer  0  selects another set of random sequences
+ * No parameters of its own: it takes those of every sampler, sampleCount, seed,
+ * maxTolerance and minSamples (adaptive sampling; see docs/plugins.md).
  *
  *   <sampler type="independent">
  *       <integer name="sampleCount" value="64"/>
  *   </sampler>
  */
+#include <nori/hash.h>
 #include <nori/pcg32.h>
 #include <nori/sampler.h>
 
@@ -17,26 +18,9 @@ namespace nori {
 
 class Independent : public Sampler {
 public:
-    explicit Independent(const PropertyList &props) {
-        const int sampleCount = props.getInteger("sampleCount", 1);
-        if (sampleCount <= 0)
-            throw NoriException("independent: 'sampleCount' must be positive, got {}", sampleCount);
-        m_sampleCount = static_cast<size_t>(sampleCount);
-        m_seed = props.getInteger("seed", 0);
-    }
+    explicit Independent(const PropertyList &props) { (void)props; }
 
     std::unique_ptr<Sampler> clone() const override { return std::make_unique<Independent>(*this); }
-
-    void prepare(const ImageBlock &block) override { (void)block; }
-
-    void generate(const Point2i &pixel) override {
-        // One PCG32 stream per pixel: the stream index encodes the pixel.
-        const uint64_t stream = (static_cast<uint64_t>(static_cast<uint32_t>(pixel.y())) << 32) |
-                                static_cast<uint32_t>(pixel.x());
-        m_random.seed(static_cast<uint64_t>(m_seed), stream);
-    }
-
-    void advance() override {}
 
     float next1D() override { return m_random.nextFloat(); }
 
@@ -46,11 +30,20 @@ public:
     }
 
     std::string toString() const override {
-        return fmt::format("Independent[sampleCount={}, seed={}]", m_sampleCount, m_seed);
+        return fmt::format("Independent[{}]", commonPropertiesString());
+    }
+
+protected:
+    void startSample() override {
+        // Both the starting state and the stream (the LCG's increment) are hashes: PCG32
+        // streams that share a state are correlated (their states are affine in the
+        // increment), so the state must differ between pixels too. Two samples' runs of
+        // a few thousand numbers then overlap with probability about 2^-40.
+        const uint64_t stream = hashValues(m_pixel.x(), m_pixel.y());
+        m_random.seed(hashValues(m_seed, m_pixel.x(), m_pixel.y(), m_sampleIndex), stream);
     }
 
 private:
-    int m_seed = 0;
     PCG32 m_random;
 };
 

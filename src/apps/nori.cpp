@@ -1,4 +1,5 @@
 // The `nori` program: renders a scene file to EXR + PNG, or runs a test file.
+#include <nori/aov.h>
 #include <nori/filesystem.h>
 #include <nori/parser.h>
 #include <nori/plugindoc.h>
@@ -10,6 +11,7 @@
 #include <nori/strutil.h>
 #include <nori/test.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -41,6 +43,13 @@ Options:
   -o, --output FILE  write FILE.exr and FILE.png instead (an .exr/.png suffix is dropped)
   -t, --threads N    number of worker threads, 1 to 1024 (default: all cores)
   --spp N            samples per pixel, overriding the scene's sampler
+  --time SECONDS     time budget: render passes until it is spent (the last one
+                     shortened to fit) or until the sample count, whichever is first
+  --aovs LIST        AOV layers to add to the EXR, e.g. albedo,normal (from albedo,
+                     normal, depth, position, sampleCount, variance; a scene can ask
+                     for them with <string name="aovs" .../> on its integrator)
+  --pfm              also write <file>.pfm, <file>_albedo.pfm and <file>_normal.pfm,
+                     the inputs of Intel Open Image Denoise's example tool
   --exposure E       brighten the PNG by 2^E (E in stops, may be negative); the EXR
                      keeps the rendered values
   --camera-convention epfl|eth
@@ -65,8 +74,10 @@ Options:
   --version          print the version
   -h, --help         this text
 
-On Ctrl-C the blocks finished so far are written to <file>_partial.exr/.png and nori
-exits with status 130.
+The image is rendered in passes over the whole frame (1, 1, 2, 4, ... samples per
+pixel, at most 64 per pass). On Ctrl-C the passes finished so far are written to
+<file>_partial.exr/.png, a whole frame at fewer samples, and nori exits with status
+130; a second Ctrl-C ends it at once.
 )";
 
 /// More threads than this is a mistake, not a machine (TBB fails far above it).
@@ -79,6 +90,9 @@ struct Options {
     std::string cameraConvention;
     int threads = 0;
     size_t samplesPerPixel = 0;
+    double timeBudget = 0.0;
+    std::vector<AOV> aovs;
+    bool pfm = false;
     bool showProgress = true;
     float exposure = 0.0f;
     bool version = false;
@@ -151,6 +165,15 @@ Options parseCommandLine(int argc, char **argv) {
             if (options.cameraConvention != "epfl" && options.cameraConvention != "eth")
                 throw NoriException("--camera-convention must be 'epfl' or 'eth', got '{}'",
                                     options.cameraConvention);
+        } else if (arg == "--time") {
+            options.timeBudget = toFloat(value(arg), arg);
+            if (!(options.timeBudget > 0.0) || !std::isfinite(options.timeBudget))
+                throw NoriException("--time must be a positive number of seconds, got {}",
+                                    options.timeBudget);
+        } else if (arg == "--aovs") {
+            options.aovs = parseAOVList(value(arg), arg);
+        } else if (arg == "--pfm") {
+            options.pfm = true;
         } else if (arg == "--spp") {
             options.samplesPerPixel = static_cast<size_t>(parsePositive(value(arg), arg));
         } else if (arg.rfind("-D", 0) == 0) {
@@ -221,6 +244,14 @@ std::string outputStem(const Options &options) {
     return path.string();
 }
 
+/// Writes beauty, albedo and normal as PFM files for OIDN's example tool (`oidnDenoise
+/// --hdr <stem>.pfm --alb <stem>_albedo.pfm --nrm <stem>_normal.pfm`).
+void writeDenoiserInputs(const LayeredImage &layers, const std::string &stem) {
+    layers.layer("").savePFM(stem + ".pfm");
+    layers.layer("albedo").savePFM(stem + "_albedo.pfm");
+    layers.layer("normal").savePFM(stem + "_normal.pfm");
+}
+
 int renderToFiles(Scene &scene, const Options &options) {
     const Vector2i size = scene.getCamera()->getOutputSize();
     RenderOptions renderOptions;
@@ -228,10 +259,19 @@ int renderToFiles(Scene &scene, const Options &options) {
     renderOptions.samplesPerPixel = options.samplesPerPixel;
     renderOptions.showProgress = options.showProgress;
     renderOptions.cancel = &g_interrupted;
-    fmt::print(stderr, "Rendering {} ({}x{}, {} spp, {} threads)\n", options.sceneFile, size.x(),
+    renderOptions.timeBudget = options.timeBudget;
+    renderOptions.aovs = options.aovs;
+    if (options.pfm)
+        for (AOV aov : {AOV::Albedo, AOV::Normal})
+            if (std::find(renderOptions.aovs.begin(), renderOptions.aovs.end(), aov) ==
+                renderOptions.aovs.end())
+                renderOptions.aovs.push_back(aov);
+    fmt::print(stderr, "Rendering {} ({}x{}, {} spp{}, {} threads)\n", options.sceneFile, size.x(),
                size.y(),
                options.samplesPerPixel > 0 ? options.samplesPerPixel
                                            : scene.getSampler()->getSampleCount(),
+               options.timeBudget > 0.0 ? fmt::format(" or {}", formatDuration(options.timeBudget))
+                                        : std::string(),
                renderOptions.threads);
 
     fmt::print(stderr, "Scene: {}\n", scene.statisticsSummary());
@@ -239,26 +279,45 @@ int renderToFiles(Scene &scene, const Options &options) {
     RenderResult result = renderScene(scene, renderOptions);
     const double rays = static_cast<double>(scene.rayCount() - raysBefore);
 
-    const std::string stem = outputStem(options) + (result.complete ? "" : "_partial");
-    result.image.saveEXR(stem + ".exr");
+    const std::string stem = outputStem(options) + (result.cancelled ? "_partial" : "");
+    result.layers.saveEXR(stem + ".exr");
     result.image.savePNG(stem + ".png", options.exposure);
+    if (options.pfm)
+        writeDenoiserInputs(result.layers, stem);
 
     if (result.invalidSamples > 0)
         fmt::print(stderr,
                    "Warning: {} of {} samples had NaN, infinite or negative radiance and were "
                    "not splatted\n",
-                   result.invalidSamples, result.samplesTaken);
-    if (!result.complete) {
+                   result.invalidSamples, result.samplesTaken + result.invalidSamples);
+    if (result.convergedPixels > 0)
         fmt::print(stderr,
-                   "Interrupted: wrote the {} of {} blocks finished so far (the rest is black) "
-                   "to {}.exr and {}.png\n",
-                   result.blocksDone, result.blocksTotal, stem, stem);
+                   "Adaptive sampling stopped {} of {} pixels early: {:.1f} samples per pixel on "
+                   "average\n",
+                   result.convergedPixels, size.prod(),
+                   static_cast<double>(result.samplesTaken) / size.prod());
+    if (result.cancelled && result.passes == 0) {
+        fmt::print(stderr,
+                   "Interrupted before the first pass finished: wrote a black frame to {}.exr "
+                   "and {}.png\n",
+                   stem, stem);
         return kExitInterrupted;
     }
+    if (result.cancelled) {
+        fmt::print(stderr,
+                   "Interrupted: wrote the {} finished passes ({} of {} spp, a whole frame) to "
+                   "{}.exr and {}.png\n",
+                   result.passes, result.samplesPerPixel, result.targetSamplesPerPixel, stem, stem);
+        return kExitInterrupted;
+    }
+    if (!result.complete)
+        fmt::print(stderr, "Time budget of {} spent: {} of {} spp in {} passes\n",
+                   formatDuration(options.timeBudget), result.samplesPerPixel,
+                   result.targetSamplesPerPixel, result.passes);
     fmt::print(stderr,
-               "Done in {} ({:.2f} M samples/s; {:.1f} M rays traced, {:.2f} M rays/s); wrote "
-               "{}.exr and {}.png\n",
-               formatDuration(result.seconds),
+               "Done in {} ({} spp; {:.2f} M samples/s; {:.1f} M rays traced, {:.2f} M rays/s); "
+               "wrote {}.exr and {}.png\n",
+               formatDuration(result.seconds), result.samplesPerPixel,
                static_cast<double>(result.samplesTaken) / result.seconds * 1e-6, rays * 1e-6,
                rays / result.seconds * 1e-6, stem, stem);
     return 0;

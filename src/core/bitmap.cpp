@@ -1,14 +1,29 @@
 #include <nori/bitmap.h>
+#include <nori/filesystem.h>
 #include <nori/imagefile.h>
+#include <nori/layeredimage.h>
 
 #include <stb_image_write.h>
 #include <tinyexr.h>
 
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <vector>
 
 namespace nori {
+
+namespace {
+
+const bool kLittleEndian = [] {
+    const uint16_t one = 1;
+    unsigned char first;
+    std::memcpy(&first, &one, 1);
+    return first == 1;
+}();
+
+} // namespace
 
 Bitmap Bitmap::load(const std::string &filename) {
     ImageFile file = readImageFile(filename);
@@ -19,18 +34,29 @@ Bitmap Bitmap::load(const std::string &filename) {
 }
 
 void Bitmap::saveEXR(const std::string &filename) const {
-    std::vector<float> rgb(static_cast<size_t>(width()) * height() * 3);
-    for (int y = 0; y < height(); ++y)
+    LayeredImage image;
+    image.addLayer("", {"R", "G", "B"}, *this);
+    image.saveEXR(filename);
+}
+
+void Bitmap::savePFM(const std::string &filename) const {
+    // Little-endian floats (scale −1), rows from the bottom up.
+    std::string bytes = fmt::format("PF\n{} {}\n-1\n", width(), height());
+    const size_t header = bytes.size();
+    bytes.resize(header + static_cast<size_t>(width()) * height() * 3 * sizeof(float));
+    char *out = bytes.data() + header;
+    for (int y = height() - 1; y >= 0; --y)
         for (int x = 0; x < width(); ++x)
-            for (int c = 0; c < 3; ++c)
-                rgb[3 * (static_cast<size_t>(y) * width() + x) + c] = coeff(y, x)[c];
-    const char *error = nullptr;
-    if (SaveEXR(rgb.data(), width(), height(), 3, /*save_as_fp16=*/0, filename.c_str(), &error) !=
-        TINYEXR_SUCCESS) {
-        std::string message = error ? error : "unknown error";
-        FreeEXRErrorMessage(error);
-        throw NoriException("cannot write EXR image '{}': {}", filename, message);
-    }
+            for (int c = 0; c < 3; ++c) {
+                const float value = coeff(y, x)[c];
+                unsigned char raw[4];
+                std::memcpy(raw, &value, 4);
+                if (!kLittleEndian)
+                    std::reverse(raw, raw + 4);
+                std::memcpy(out, raw, 4);
+                out += 4;
+            }
+    writeBinaryFile(filename, bytes, "PFM image");
 }
 
 void Bitmap::savePNG(const std::string &filename, float exposure) const {

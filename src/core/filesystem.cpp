@@ -52,6 +52,13 @@ std::string readTextFile(const std::string &path, const std::string &what) {
     return text;
 }
 
+void writeBinaryFile(const std::string &path, const std::string &bytes, const std::string &what) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out)
+        throw NoriException("cannot write {} '{}': {}", what, path, std::strerror(errno));
+}
+
 void writeFileIfChanged(const std::string &path, const std::string &text) {
     {
         std::ifstream existing(path, std::ios::binary);
@@ -60,10 +67,7 @@ void writeFileIfChanged(const std::string &path, const std::string &text) {
         if (existing && buffer.str() == text)
             return;
     }
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    if (!out)
-        throw NoriException("cannot write '{}': {}", path, std::strerror(errno));
+    writeBinaryFile(path, text, "file");
 }
 
 } // namespace nori

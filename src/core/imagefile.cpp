@@ -366,7 +366,89 @@ private:
 
 // ---------------------------------------------------------------------------------- EXR
 
+/// The R, G and B channels of the first layer that has them (the beauty, "R", "G", "B",
+/// sorts first), or a single channel as grey.
 ImageFile decodeExr(const std::string &bytes, const std::string &name, std::size_t maxPixels) {
+    const LayeredImage layered = decodeLayeredEXR(bytes, name, maxPixels);
+    for (const std::string &layer : layered.layerNames())
+        if (layered.channelsOf(layer) == std::vector<std::string>{"R", "G", "B"})
+            return {layered.layer(layer), false};
+    if (layered.channels().size() == 1)
+        return {layered.layer(layered.layerNames().front()), false};
+    throw NoriException("EXR image '{}' has no R, G and B channels (and is not a one-channel "
+                        "grey image)",
+                        name);
+}
+
+// ---------------------------------------------------------------------------------- PFM
+// Portable float map: "PF" (RGB) or "Pf" (grey), width and height, a scale whose sign
+// gives the byte order (negative: little-endian), then rows of 32-bit floats from the
+// bottom of the image up.
+
+ImageFile decodePfm(const std::string &bytes, const std::string &name, std::size_t maxPixels) {
+    std::size_t offset = 2;
+    auto token = [&]() {
+        while (offset < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[offset])))
+            ++offset;
+        const std::size_t begin = offset;
+        while (offset < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[offset])))
+            ++offset;
+        if (begin == offset || offset - begin > 32)
+            throw NoriException("PFM image '{}' has a malformed header", name);
+        return bytes.substr(begin, offset - begin);
+    };
+    const int channels = bytes[1] == 'F' ? 3 : 1;
+    int64_t width = 0, height = 0;
+    double scale = 0.0;
+    try {
+        std::size_t used = 0;
+        std::string text = token();
+        width = std::stoll(text, &used);
+        bool whole = used == text.size();
+        text = token();
+        height = std::stoll(text, &used);
+        whole = whole && used == text.size();
+        text = token();
+        scale = std::stod(text, &used);
+        if (!whole || used != text.size())
+            throw std::invalid_argument(text);
+    } catch (const std::logic_error &) {
+        throw NoriException("PFM image '{}' has a malformed header (expected width, height and "
+                            "scale)",
+                            name);
+    }
+    checkSize(width, height, maxPixels, name, "PFM");
+    if (!std::isfinite(scale) || scale == 0.0)
+        throw NoriException("PFM image '{}' has an invalid scale {} (its sign is the byte order)",
+                            name, scale);
+    ++offset; // the single whitespace character before the data
+    const std::size_t valueCount = std::size_t(width) * std::size_t(height) * channels;
+    if (offset > bytes.size() || bytes.size() - offset < valueCount * sizeof(float))
+        throw NoriException("PFM image '{}' ends early (truncated): {}x{} pixels need {} bytes",
+                            name, width, height, valueCount * sizeof(float));
+    const bool bigEndian = scale > 0.0;
+    ImageFile image{Bitmap(Eigen::Vector2i(int(width), int(height))), false};
+    for (int64_t row = 0; row < height; ++row)
+        for (int64_t x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t index =
+                    (std::size_t(row) * std::size_t(width) + std::size_t(x)) * channels +
+                    std::size_t(std::min(c, channels - 1));
+                unsigned char raw[4];
+                std::memcpy(raw, bytes.data() + offset + 4 * index, 4);
+                if (bigEndian)
+                    std::reverse(raw, raw + 4);
+                float value;
+                std::memcpy(&value, raw, 4);
+                image.pixels.coeffRef(height - 1 - row, x)[c] = value;
+            }
+    return image;
+}
+
+} // namespace
+
+LayeredImage decodeLayeredEXR(const std::string &bytes, const std::string &name,
+                              std::size_t maxPixels) {
     const auto *data = reinterpret_cast<const unsigned char *>(bytes.data());
     auto failure = [&](const char *error, const char *fallback) {
         std::string message = error ? error : fallback;
@@ -396,6 +478,13 @@ ImageFile decodeExr(const std::string &bytes, const std::string &name, std::size
     const int64_t width = int64_t(header.data_window.max_x) - header.data_window.min_x + 1;
     const int64_t height = int64_t(header.data_window.max_y) - header.data_window.min_y + 1;
     checkSize(width, height, maxPixels, name, "EXR");
+    // All channels are decoded: bound their number and total size too.
+    if (header.num_channels < 1 || header.num_channels > kMaxEXRChannels ||
+        uint64_t(width) * uint64_t(height) * uint64_t(header.num_channels) > 4 * maxPixels)
+        throw NoriException("EXR image '{}' has {} channels of {}x{} pixels (1 to {} channels, "
+                            "at most {} values in all)",
+                            name, header.num_channels, width, height, kMaxEXRChannels,
+                            4 * maxPixels);
     for (int c = 0; c < header.num_channels; ++c)
         if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
             header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
@@ -414,39 +503,27 @@ ImageFile decodeExr(const std::string &bytes, const std::string &name, std::size
         ~ImageGuard() { FreeEXRImage(&image); }
     } imageGuard{exr};
 
-    // R, G, B by name; a single channel (Y or any other) is grey.
-    int channel[3] = {-1, -1, -1};
+    LayeredImage image(Eigen::Vector2i(exr.width, exr.height));
     for (int c = 0; c < header.num_channels; ++c) {
+        LayeredImage::Channel values(exr.height, exr.width);
+        for (int64_t i = 0; i < int64_t(exr.width) * exr.height; ++i)
+            values(i / exr.width, i % exr.width) =
+                header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT
+                    ? static_cast<float>(reinterpret_cast<const unsigned int *>(exr.images[c])[i])
+                    : reinterpret_cast<const float *>(exr.images[c])[i];
         const std::string channelName = header.channels[c].name;
-        const std::string suffix = channelName.substr(channelName.rfind('.') + 1);
-        for (int k = 0; k < 3; ++k)
-            if (suffix == std::string(1, "RGB"[k]) && channel[k] < 0)
-                channel[k] = c;
+        if (image.channels().count(channelName))
+            throw NoriException("EXR image '{}' has two channels named '{}'", name, channelName);
+        image.addChannel(channelName, std::move(values));
     }
-    if (channel[0] < 0 || channel[1] < 0 || channel[2] < 0) {
-        if (header.num_channels != 1)
-            throw NoriException("EXR image '{}' has no R, G and B channels (and is not a "
-                                "one-channel grey image)",
-                                name);
-        channel[0] = channel[1] = channel[2] = 0;
-    }
-    ImageFile image{Bitmap(Eigen::Vector2i(exr.width, exr.height)), false};
-    for (int k = 0; k < 3; ++k) {
-        const int c = channel[k];
-        for (int64_t i = 0; i < int64_t(exr.width) * exr.height; ++i) {
-            float value;
-            if (header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT)
-                value =
-                    static_cast<float>(reinterpret_cast<const unsigned int *>(exr.images[c])[i]);
-            else
-                value = reinterpret_cast<const float *>(exr.images[c])[i];
-            image.pixels.coeffRef(i / exr.width, i % exr.width)[k] = value;
-        }
+    for (int a = 0; a < header.num_custom_attributes; ++a) {
+        const EXRAttribute &attribute = header.custom_attributes[a];
+        if (std::strcmp(attribute.type, "string") == 0 && attribute.size >= 0)
+            image.attributes[attribute.name] =
+                std::string(reinterpret_cast<const char *>(attribute.value), attribute.size);
     }
     return image;
 }
-
-} // namespace
 
 ImageFile decodeImageFile(const std::string &bytes, const std::string &name,
                           std::size_t maxPixels) {
@@ -458,7 +535,9 @@ ImageFile decodeImageFile(const std::string &bytes, const std::string &name,
         return decodeExr(bytes, name, maxPixels);
     if (startsWith(bytes, "#?", 2))
         return HdrReader(bytes, name).decode(maxPixels);
-    throw NoriException("'{}' is not a PNG, JPEG, Radiance HDR or OpenEXR image (unknown "
+    if (startsWith(bytes, "PF", 2) || startsWith(bytes, "Pf", 2))
+        return decodePfm(bytes, name, maxPixels);
+    throw NoriException("'{}' is not a PNG, JPEG, Radiance HDR, OpenEXR or PFM image (unknown "
                         "signature)",
                         name);
 }

@@ -108,6 +108,7 @@ std::shared_ptr<NoriObject> NoriObjectFactory::createInstance(const std::string 
     }
     std::shared_ptr<NoriObject> object = it->second.constructor(props);
     object->setPluginName(name);
+    object->readCommonProperties(props);
     if (observerSlot())
         observerSlot()(expectedType, name, props);
     props.checkAllRead(fmt::format("{} '{}'", NoriObject::classTypeName(expectedType), name));

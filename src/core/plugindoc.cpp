@@ -272,6 +272,50 @@ std::string pluginList(const std::string &kind) {
     return out;
 }
 
+const std::vector<ParameterDoc> &commonParameters(NoriObject::EClassType type) {
+    static const std::vector<ParameterDoc> none;
+    static const std::vector<ParameterDoc> integrator = {
+        {{"aovs"},
+         "string",
+         "\"\"",
+         "AOV layers written beside the beauty in the EXR: a list of albedo, normal, depth, "
+         "position, sampleCount, variance (nori --aovs adds more)"}};
+    static const std::vector<ParameterDoc> sampler = {
+        {{"sampleCount"}, "integer", "1", "samples per pixel (nori --spp overrides it)"},
+        {{"seed"}, "integer", "0", "selects another set of sample sequences"},
+        {{"maxTolerance"},
+         "float",
+         "0",
+         "adaptive sampling: after minSamples and after every pass, a pixel stops once "
+         "1.96·σ/√n of its luminance is at most maxTolerance·μ (0: off)"},
+        {{"minSamples"}, "integer", "16", "adaptive sampling: samples before a pixel may stop"}};
+    switch (type) {
+    case NoriObject::EIntegrator:
+        return integrator;
+    case NoriObject::ESampler:
+        return sampler;
+    default:
+        return none;
+    }
+}
+
+namespace {
+
+/// The parameters every plugin of the kind takes, as a text table (for --list-plugins).
+std::string commonParametersText(NoriObject::EClassType type) {
+    const std::vector<ParameterDoc> &parameters = commonParameters(type);
+    if (parameters.empty())
+        return "";
+    std::string out =
+        fmt::format("\nParameters of every {} plugin:\n", NoriObject::classTypeName(type));
+    for (const ParameterDoc &parameter : parameters)
+        out += fmt::format("  {:<13} {:<8} {:<6} {}\n", fmt::join(parameter.names, ", "),
+                           parameter.type, parameter.defaultValue, parameter.meaning);
+    return out;
+}
+
+} // namespace
+
 std::string pluginReference(const std::string &name) {
     if (!NoriObjectFactory::isRegistered(name))
         return pluginList(name); // a kind, or an error with a suggestion
@@ -286,7 +330,7 @@ std::string pluginReference(const std::string &name) {
             continue;
         }
         try {
-            out += parsePluginDoc(comment).text;
+            out += parsePluginDoc(comment).text + commonParametersText(type);
         } catch (const NoriException &error) {
             throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
                                 error.what());
@@ -308,6 +352,17 @@ std::string pluginsMarkdown() {
         if (type != current) {
             current = type;
             out += fmt::format("\n## {}\n", NoriObject::classTypeName(type));
+            const std::vector<ParameterDoc> &common = commonParameters(type);
+            if (!common.empty()) {
+                out += fmt::format("\nEvery {} plugin takes these parameters (read by the base "
+                                   "class):\n\n| parameter | type | default | meaning |\n"
+                                   "| --- | --- | --- | --- |\n",
+                                   NoriObject::classTypeName(type));
+                for (const ParameterDoc &parameter : common)
+                    out +=
+                        fmt::format("| `{}` | {} | {} | {} |\n", fmt::join(parameter.names, "`, `"),
+                                    parameter.type, parameter.defaultValue, parameter.meaning);
+            }
         }
         PluginDoc doc;
         try {

@@ -23,11 +23,11 @@ PathTracer::PathTracer(const PropertyList &props, Strategy strategy, int bounces
     }
 }
 
-Color3f sampleDirectLight(const Scene *scene, Sampler *sampler, const Intersection &its,
-                          const BSDF &bsdf, const Vector3f &wiLocal, bool mis) {
-    float u = sampler->next1D(), pmf;
+Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
+                          const Vector3f &wiLocal, bool mis, float emitterSample,
+                          const Point2f &sample) {
+    float u = emitterSample, pmf;
     const Emitter *emitter = scene->sampleEmitter(u, pmf);
-    const Point2f sample = sampler->next2D();
     if (!emitter || pmf == 0.0f)
         return Color3f(0.0f);
     EmitterQueryRecord lRec(its.p);
@@ -75,15 +75,23 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
         if (m_maxDepth > 0 && depth >= m_maxDepth)
             break;
 
+        // Every bounce draws the same dimensions in the same order, used or not, so that
+        // a dimension of a low-discrepancy sampler means the same thing in every sample.
+        const float emitterSample = sampler->next1D();
+        const Point2f lightSample = sampler->next2D();
+        const Point2f bsdfSample = sampler->next2D();
+        const float rouletteSample = sampler->next1D();
+
         const BSDF *bsdf = its.shape->getBSDF();
         const Vector3f wiLocal = its.toLocal(-ray.d);
         // Light sampling pays off only where the BSDF has a non-delta lobe.
         if (m_strategy != Strategy::BSDF && bsdf->isDiffuse())
-            radiance += throughput * sampleDirectLight(scene, sampler, its, *bsdf, wiLocal,
-                                                       m_strategy == Strategy::MIS);
+            radiance += throughput * sampleDirectLight(scene, its, *bsdf, wiLocal,
+                                                       m_strategy == Strategy::MIS, emitterSample,
+                                                       lightSample);
 
         BSDFQueryRecord bRec(its, wiLocal);
-        const Color3f weight = bsdf->sample(bRec, sampler->next2D());
+        const Color3f weight = bsdf->sample(bRec, bsdfSample);
         if ((weight == 0.0f).all() || !its.sidesAgree(its.toWorld(bRec.wo)))
             break;
         specularBounce = bRec.measure == EDiscrete || !bsdf->isDiffuse();
@@ -95,7 +103,7 @@ Color3f PathTracer::Li(const Scene *scene, Sampler *sampler, const Ray3f &camera
         // Russian roulette: continue with probability q, and divide by it.
         if (depth + 1 >= m_rrDepth) {
             const float q = std::min(0.99f, throughput.maxCoeff());
-            if (sampler->next1D() >= q)
+            if (rouletteSample >= q)
                 break;
             throughput /= q;
         }

@@ -1,4 +1,5 @@
-#include <nori/imageblock.h>
+#include <nori/film.h>
+#include <nori/hash.h>
 #include <nori/progress.h>
 #include <nori/render.h>
 #include <nori/scene.h>
@@ -13,61 +14,66 @@ namespace nori {
 
 namespace {
 
-constexpr int kBlockSize = 32;
-
-struct BlockRegion {
-    Point2i offset;
-    Vector2i size;
-};
-
-/// Splits the image into kBlockSize² blocks, row by row.
-std::vector<BlockRegion> makeBlocks(const Vector2i &imageSize) {
-    std::vector<BlockRegion> blocks;
-    for (int y = 0; y < imageSize.y(); y += kBlockSize)
-        for (int x = 0; x < imageSize.x(); x += kBlockSize)
-            blocks.push_back({Point2i(x, y), Vector2i(std::min(kBlockSize, imageSize.x() - x),
-                                                      std::min(kBlockSize, imageSize.y() - y))});
-    return blocks;
-}
-
 bool isCancelled(const RenderOptions &options) {
     return options.cancel && options.cancel->load(std::memory_order_relaxed);
 }
 
-/// Renders one block; returns false when cancelled part-way (the block is discarded).
-bool renderBlock(const Scene &scene, Sampler &sampler, ImageBlock &block,
-                 const RenderOptions &options, size_t &invalidSamples) {
-    const Integrator *integrator = scene.getIntegrator();
-    const Point2i &offset = block.getOffset();
-    const Vector2i &size = block.getSize();
+/// Sample indices [first, end) of every pixel.
+struct SampleRange {
+    uint32_t first, end;
+};
 
-    block.clear();
-    sampler.prepare(block);
-    for (int y = 0; y < size.y(); ++y) {
-        for (int x = 0; x < size.x(); ++x) {
-            const Point2i pixel(offset.x() + x, offset.y() + y);
-            sampler.generate(pixel);
-            for (size_t i = 0; i < sampler.getSampleCount(); ++i) {
+/// Renders the samples `range` of the block's pixels that adaptive sampling has not
+/// stopped into `pass`. Returns false when cancelled part-way.
+bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
+                     const FilmBlock &accumulated, FilmBlock &pass, SampleRange range,
+                     const RenderOptions &options, size_t &invalidSamples) {
+    const Integrator *integrator = scene.getIntegrator();
+    const bool surfaceAOVs = film.needsSurfaceAOVs();
+    sampler.prepare(pass.beauty());
+    for (int y = 0; y < pass.size().y(); ++y) {
+        for (int x = 0; x < pass.size().x(); ++x) {
+            if (accumulated.statistics(x, y).converged)
+                continue;
+            const Point2i pixel = pass.offset() + Vector2i(x, y);
+            for (uint32_t index = range.first; index < range.end; ++index) {
                 // Checked every sample (a relaxed load costs nothing next to a path), so
-                // Ctrl-C is prompt even at millions of samples per pixel.
+                // Ctrl-C is prompt even when a pass has many samples per pixel.
                 if (isCancelled(options))
                     return false;
-                Point2f pixelSample = pixel.cast<float>() + sampler.next2D();
-                Point2f apertureSample = sampler.next2D();
+                // The fixed order of dimensions: film position, aperture, then the
+                // integrator's.
+                sampler.generate(pixel, index);
+                const Point2f position = pixel.cast<float>() + sampler.next2D();
+                const Point2f apertureSample = sampler.next2D();
                 Ray3f ray;
-                Color3f value = scene.sampleCameraRay(ray, pixelSample, apertureSample);
+                Color3f value = scene.sampleCameraRay(ray, position, apertureSample);
                 // A weight of zero (a lens blocked the ray) leaves the ray unset: no light.
-                if (!(value == 0.0f).all())
+                const bool traced = !(value == 0.0f).all();
+                SurfaceAOVs surface;
+                if (surfaceAOVs && traced)
+                    surface = traceSurfaceAOVs(
+                        scene, ray, hashValues(sampler.getSeed(), pixel.x(), pixel.y(), index));
+                if (traced)
                     value *= integrator->Li(&scene, &sampler, ray);
-                if (value.isValid())
-                    block.put(pixelSample, value);
-                else
+                if (!value.isValid()) {
                     ++invalidSamples;
-                sampler.advance();
+                    continue;
+                }
+                pass.put({position, value, index, surfaceAOVs ? &surface : nullptr});
+                pass.countSample(x, y, value.getLuminance());
             }
         }
     }
     return true;
+}
+
+/// Samples per pixel of pass `pass` (0-based): 1, 1, 2, 4, ... up to `maxPassSamples`,
+/// so that early passes show a whole frame quickly and sample counts stay powers of two
+/// (where Sobol' points are best stratified) until the cap.
+size_t scheduledPassSize(size_t pass, size_t maxPassSamples) {
+    const size_t doubling = pass <= 1 ? 1 : size_t(1) << std::min<size_t>(pass - 1, 40);
+    return std::max<size_t>(1, std::min(doubling, maxPassSamples));
 }
 
 } // namespace
@@ -79,68 +85,99 @@ int defaultThreadCount() {
 RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     const Camera *camera = scene.getCamera();
     const Vector2i outputSize = camera->getOutputSize();
-    const ReconstructionFilter *filter = camera->getReconstructionFilter();
 
     std::unique_ptr<Sampler> prototype = scene.getSampler()->clone();
     if (options.samplesPerPixel > 0)
         prototype->setSampleCount(options.samplesPerPixel);
+    const size_t targetSpp = std::min<size_t>(prototype->getSampleCount(), UINT32_MAX);
+
+    std::vector<AOV> aovs = scene.getIntegrator()->aovs();
+    for (AOV aov : options.aovs)
+        if (std::find(aovs.begin(), aovs.end(), aov) == aovs.end())
+            aovs.push_back(aov);
+    Film film(outputSize, camera->getReconstructionFilter(), aovs);
 
     scene.getIntegrator()->preprocess(&scene);
 
-    const std::vector<BlockRegion> regions = makeBlocks(outputSize);
     RenderResult result;
-    result.blocksTotal = regions.size();
-    result.samplesPerPixel = prototype->getSampleCount();
-
-    // Finished blocks are merged in index order (the next one as soon as its
-    // predecessors are in), so every pixel sums its contributions in the same order.
-    ImageBlock image(outputSize, filter);
-    std::vector<std::unique_ptr<ImageBlock>> finished(regions.size());
-    size_t nextToMerge = 0;
+    result.targetSamplesPerPixel = targetSpp;
+    const size_t pixelCount = static_cast<size_t>(outputSize.prod());
+    ProgressBar progress("Rendering", pixelCount * targetSpp, options.showProgress);
+    size_t samplesDone = 0; // for the progress bar: stopped pixels count as done
     std::mutex mutex;
-    ProgressBar progress("Rendering", regions.size(), options.showProgress);
-
-    auto renderRange = [&](const tbb::blocked_range<size_t> &range) {
-        for (size_t index = range.begin(); index != range.end(); ++index) {
-            if (isCancelled(options))
-                return;
-            auto block = std::make_unique<ImageBlock>(regions[index].size, filter);
-            block->setOffset(regions[index].offset);
-            std::unique_ptr<Sampler> sampler = prototype->clone();
-            size_t invalid = 0;
-            if (!renderBlock(scene, *sampler, *block, options, invalid))
-                return;
-
-            std::lock_guard<std::mutex> lock(mutex);
-            finished[index] = std::move(block);
-            result.invalidSamples += invalid;
-            result.samplesTaken +=
-                static_cast<size_t>(regions[index].size.prod()) * prototype->getSampleCount();
-            ++result.blocksDone;
-            while (nextToMerge < finished.size() && finished[nextToMerge]) {
-                image.put(*finished[nextToMerge]);
-                finished[nextToMerge].reset();
-                ++nextToMerge;
-            }
-            progress.update(result.blocksDone);
-        }
-    };
-
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, regions.size(), 1), renderRange,
-                          tbb::simple_partitioner());
-    });
 
-    // After a cancellation, blocks past a gap are still waiting: merge them in order.
-    for (; nextToMerge < finished.size(); ++nextToMerge)
-        if (finished[nextToMerge])
-            image.put(*finished[nextToMerge]);
+    size_t sppDone = 0;
+    while (sppDone < targetSpp && !isCancelled(options)) {
+        size_t passSize =
+            std::min(scheduledPassSize(result.passes, options.maxPassSamples), targetSpp - sppDone);
+        if (options.timeBudget > 0.0 && sppDone > 0) {
+            // Shorten the pass to what the measured rate says fits in the budget left.
+            const double elapsed = progress.elapsedSeconds();
+            const double secondsPerSpp = elapsed / static_cast<double>(sppDone);
+            const double sppLeft = (options.timeBudget - elapsed) / secondsPerSpp;
+            if (sppLeft < 1.0)
+                break;
+            passSize = std::min(passSize, static_cast<size_t>(sppLeft));
+        }
+        const SampleRange range{static_cast<uint32_t>(sppDone),
+                                static_cast<uint32_t>(sppDone + passSize)};
+
+        std::vector<std::unique_ptr<FilmBlock>> passBlocks(film.blockCount());
+        std::atomic<bool> interrupted{false};
+        arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<size_t>(0, film.blockCount(), 1),
+                [&](const tbb::blocked_range<size_t> &blocks) {
+                    for (size_t index = blocks.begin(); index != blocks.end(); ++index) {
+                        std::unique_ptr<FilmBlock> pass = film.makePassBlock(index);
+                        std::unique_ptr<Sampler> sampler = prototype->clone();
+                        size_t invalid = 0;
+                        if (!renderBlockPass(scene, *sampler, film, film.block(index), *pass, range,
+                                             options, invalid)) {
+                            interrupted = true;
+                            return;
+                        }
+                        std::lock_guard<std::mutex> lock(mutex);
+                        result.invalidSamples += invalid;
+                        samplesDone += static_cast<size_t>(pass->size().prod()) * passSize;
+                        progress.update(samplesDone);
+                        passBlocks[index] = std::move(pass);
+                    }
+                },
+                tbb::simple_partitioner());
+        });
+        if (interrupted)
+            break; // the unfinished pass is dropped: the film keeps whole passes only
+
+        const Sampler &settings = *prototype;
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), film.blockCount(), [&](size_t index) {
+                FilmBlock &block = film.block(index);
+                block.add(*passBlocks[index]);
+                if (settings.getMaxTolerance() > 0.0f)
+                    block.updateConvergence(settings.getMinSamples(), settings.getMaxTolerance());
+            });
+        });
+        sppDone += passSize;
+        ++result.passes;
+        if (options.passFinished)
+            options.passFinished(film,
+                                 {result.passes, sppDone, targetSpp, progress.elapsedSeconds()});
+        if (film.convergedPixels() == pixelCount)
+            break; // adaptive sampling stopped every pixel
+    }
 
     progress.finish();
-    result.complete = result.blocksDone == result.blocksTotal;
+    result.cancelled = isCancelled(options);
+    result.samplesPerPixel = sppDone;
+    result.complete =
+        !result.cancelled && (sppDone == targetSpp || film.convergedPixels() == pixelCount);
+    result.samplesTaken = film.samplesTaken();
+    result.convergedPixels = film.convergedPixels();
     result.seconds = progress.elapsedSeconds();
-    result.image = image.toBitmap();
+    result.layers = film.develop();
+    result.image = result.layers.layer("");
     return result;
 }
 

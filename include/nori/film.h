@@ -1,0 +1,105 @@
+// The film a render accumulates into: per image block, filtered sums of the beauty, of
+// the AOV layers and of the even samples' half-buffer (for the variance), and per pixel
+// the luminance statistics that adaptive sampling and the sampleCount layer use. Blocks
+// keep their sums from pass to pass; a pass is rendered into blocks of its own and
+// committed only when complete, so an interrupted pass leaves no trace.
+#pragma once
+
+#include <nori/aov.h>
+#include <nori/imageblock.h>
+#include <nori/layeredimage.h>
+
+#include <array>
+#include <memory>
+
+namespace nori {
+
+/// One camera sample as the film receives it.
+struct FilmSample {
+    Point2f position;             ///< film position in pixels, from the top-left corner
+    Color3f radiance;             ///< camera weight × Li
+    uint32_t sampleIndex = 0;     ///< even indices also go to the half-buffer
+    const SurfaceAOVs *surface{}; ///< the surface AOVs, when the film records any
+};
+
+/// Running statistics of one pixel's sample luminances (unfiltered).
+struct PixelStatistics {
+    uint32_t count = 0;
+    double sum = 0.0, sumOfSquares = 0.0;
+    bool converged = false; ///< adaptive sampling stopped the pixel
+
+    /// Whether the 95% confidence interval of the mean, 1.96·σ/√n, lies within
+    /// maxTolerance·μ (σ² the unbiased sample variance).
+    bool withinTolerance(float maxTolerance) const;
+};
+
+class FilmBlock {
+public:
+    FilmBlock(const Point2i &offset, const Vector2i &size, const ReconstructionFilter *filter,
+              const std::vector<AOV> &aovs);
+
+    const Point2i &offset() const { return m_offset; }
+    const Vector2i &size() const { return m_size; }
+    /// The filtered beauty sums (a sampler's prepare() sees them).
+    const ImageBlock &beauty() const { return *m_layers[kBeauty]; }
+
+    /// Splats a sample into every layer the film records.
+    void put(const FilmSample &sample);
+    /// Counts a finished sample of the pixel at `offset() + (x, y)`.
+    void countSample(int x, int y, float luminance);
+    const PixelStatistics &statistics(int x, int y) const {
+        return m_statistics[static_cast<size_t>(y * m_size.x() + x)];
+    }
+    /// Adds a pass's block (same region and layers) to this one.
+    void add(const FilmBlock &pass);
+    /// Marks pixels with at least minSamples samples whose mean is within tolerance as
+    /// converged (adaptive sampling).
+    void updateConvergence(size_t minSamples, float maxTolerance);
+
+private:
+    friend class Film;
+    /// The filtered sums the film keeps: the beauty, the even samples' half of it, and
+    /// the surface AOVs (depth as grey).
+    enum Layer { kBeauty, kEvenHalf, kAlbedo, kNormal, kDepth, kPosition, kLayerCount };
+
+    Point2i m_offset;
+    Vector2i m_size;
+    std::array<std::unique_ptr<ImageBlock>, kLayerCount> m_layers;
+    std::vector<PixelStatistics> m_statistics;
+};
+
+class Film {
+public:
+    /// The film of an image of `size` pixels, split into blocks of at most blockSize²
+    /// pixels, row by row.
+    Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector<AOV> aovs,
+         int blockSize = 32);
+
+    const Vector2i &size() const { return m_size; }
+    const std::vector<AOV> &aovs() const { return m_aovs; }
+    /// Whether samples must carry their surface AOVs.
+    bool needsSurfaceAOVs() const;
+
+    size_t blockCount() const { return m_blocks.size(); }
+    FilmBlock &block(size_t index) { return *m_blocks[index]; }
+    const FilmBlock &block(size_t index) const { return *m_blocks[index]; }
+    /// An empty block over the same region as block `index`, for a pass to render into.
+    std::unique_ptr<FilmBlock> makePassBlock(size_t index) const;
+
+    /// Samples taken so far, over all pixels.
+    size_t samplesTaken() const;
+    /// Pixels adaptive sampling has stopped.
+    size_t convergedPixels() const;
+
+    /// The image: the beauty as R, G, B and one layer per AOV. Blocks are merged in
+    /// index order, so every pixel sums the same values in the same order every time.
+    LayeredImage develop() const;
+
+private:
+    Vector2i m_size;
+    const ReconstructionFilter *m_filter;
+    std::vector<AOV> m_aovs;
+    std::vector<std::unique_ptr<FilmBlock>> m_blocks;
+};
+
+} // namespace nori

@@ -1,0 +1,98 @@
+#include <nori/aov.h>
+#include <nori/bsdf.h>
+#include <nori/pcg32.h>
+#include <nori/raydifferential.h>
+#include <nori/scene.h>
+#include <nori/strutil.h>
+
+#include <algorithm>
+#include <array>
+
+namespace nori {
+
+namespace {
+
+struct AOVInfo {
+    AOV aov;
+    const char *name;
+    std::vector<std::string> channels;
+};
+
+const std::array<AOVInfo, 6> &aovTable() {
+    static const std::array<AOVInfo, 6> table = {{
+        {AOV::Albedo, "albedo", {"R", "G", "B"}},
+        {AOV::Normal, "normal", {"X", "Y", "Z"}},
+        {AOV::Depth, "depth", {"Z"}},
+        {AOV::Position, "position", {"X", "Y", "Z"}},
+        {AOV::SampleCount, "sampleCount", {"Y"}},
+        {AOV::Variance, "variance", {"R", "G", "B"}},
+    }};
+    return table;
+}
+
+const AOVInfo &infoOf(AOV aov) {
+    return aovTable()[static_cast<size_t>(aov)];
+}
+
+/// Specular bounces followed before giving up on finding a non-specular surface.
+constexpr int kMaxSpecularBounces = 8;
+
+} // namespace
+
+const char *aovName(AOV aov) {
+    return infoOf(aov).name;
+}
+
+const std::vector<std::string> &aovChannels(AOV aov) {
+    return infoOf(aov).channels;
+}
+
+std::vector<AOV> parseAOVList(const std::string &list, const std::string &where) {
+    std::vector<AOV> aovs;
+    for (const std::string &entry : tokenize(list)) {
+        const auto &table = aovTable();
+        const auto found = std::find_if(table.begin(), table.end(),
+                                        [&](const AOVInfo &info) { return entry == info.name; });
+        if (found == table.end()) {
+            std::vector<std::string> names;
+            for (const AOVInfo &info : table)
+                names.push_back(info.name);
+            std::string hint = didYouMean(entry, names);
+            if (hint.empty())
+                hint = fmt::format(" (known AOVs: {})", fmt::join(names, ", "));
+            throw NoriException("{}: unknown AOV '{}'{}", where, entry, hint);
+        }
+        if (std::find(aovs.begin(), aovs.end(), found->aov) == aovs.end())
+            aovs.push_back(found->aov);
+    }
+    return aovs;
+}
+
+SurfaceAOVs traceSurfaceAOVs(const Scene &scene, const Ray3f &cameraRay, uint64_t seed) {
+    SurfaceAOVs result;
+    PCG32 random(seed, 0x5a0f);
+    Ray3f ray = cameraRay;
+    for (int bounce = 0; bounce <= kMaxSpecularBounces; ++bounce) {
+        Intersection its;
+        if (!scene.rayIntersect(ray, its))
+            break;
+        if (bounce == 0) {
+            result.depth = (its.p - cameraRay.o).norm();
+            result.position = its.p;
+        }
+        const BSDF *bsdf = its.shape->getBSDF();
+        BSDFQueryRecord bRec(its, its.toLocal(-ray.d));
+        if (bsdf->isDiffuse()) {
+            result.albedo = bsdf->albedo(bRec);
+            result.normal = its.shFrame.n;
+            break;
+        }
+        const float u = random.nextFloat();
+        if ((bsdf->sample(bRec, Point2f(u, random.nextFloat())) == 0.0f).all())
+            break;
+        ray = spawnScatteredRay(its, ray, bRec);
+    }
+    return result;
+}
+
+} // namespace nori

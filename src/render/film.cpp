@@ -1,0 +1,171 @@
+#include <nori/film.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace nori {
+
+bool PixelStatistics::withinTolerance(float maxTolerance) const {
+    if (count < 2)
+        return false;
+    const double n = count, mean = sum / n;
+    const double variance = std::max(0.0, (sumOfSquares - n * mean * mean) / (n - 1.0));
+    return 1.96 * std::sqrt(variance / n) <= maxTolerance * mean;
+}
+
+FilmBlock::FilmBlock(const Point2i &offset, const Vector2i &size,
+                     const ReconstructionFilter *filter, const std::vector<AOV> &aovs)
+    : m_offset(offset), m_size(size), m_statistics(static_cast<size_t>(size.prod())) {
+    auto has = [&](AOV aov) { return std::find(aovs.begin(), aovs.end(), aov) != aovs.end(); };
+    const bool layerWanted[kLayerCount] = {true,
+                                           has(AOV::Variance),
+                                           has(AOV::Albedo),
+                                           has(AOV::Normal),
+                                           has(AOV::Depth),
+                                           has(AOV::Position)};
+    for (int layer = 0; layer < kLayerCount; ++layer)
+        if (layerWanted[layer]) {
+            m_layers[layer] = std::make_unique<ImageBlock>(size, filter);
+            m_layers[layer]->setOffset(offset);
+        }
+}
+
+void FilmBlock::put(const FilmSample &sample) {
+    m_layers[kBeauty]->put(sample.position, sample.radiance);
+    if (m_layers[kEvenHalf] && sample.sampleIndex % 2 == 0)
+        m_layers[kEvenHalf]->put(sample.position, sample.radiance);
+    if (!sample.surface)
+        return;
+    const SurfaceAOVs &surface = *sample.surface;
+    if (m_layers[kAlbedo])
+        m_layers[kAlbedo]->put(sample.position, surface.albedo);
+    if (m_layers[kNormal])
+        m_layers[kNormal]->put(sample.position, Color3f(surface.normal.array()));
+    if (m_layers[kDepth])
+        m_layers[kDepth]->put(sample.position, Color3f(surface.depth));
+    if (m_layers[kPosition])
+        m_layers[kPosition]->put(sample.position, Color3f(surface.position.array()));
+}
+
+void FilmBlock::countSample(int x, int y, float luminance) {
+    PixelStatistics &statistics = m_statistics[static_cast<size_t>(y * m_size.x() + x)];
+    ++statistics.count;
+    statistics.sum += luminance;
+    statistics.sumOfSquares += double(luminance) * luminance;
+}
+
+void FilmBlock::add(const FilmBlock &pass) {
+    for (int layer = 0; layer < kLayerCount; ++layer)
+        if (m_layers[layer])
+            m_layers[layer]->put(*pass.m_layers[layer]);
+    for (size_t i = 0; i < m_statistics.size(); ++i) {
+        m_statistics[i].count += pass.m_statistics[i].count;
+        m_statistics[i].sum += pass.m_statistics[i].sum;
+        m_statistics[i].sumOfSquares += pass.m_statistics[i].sumOfSquares;
+    }
+}
+
+void FilmBlock::updateConvergence(size_t minSamples, float maxTolerance) {
+    for (PixelStatistics &statistics : m_statistics)
+        if (!statistics.converged && statistics.count >= minSamples)
+            statistics.converged = statistics.withinTolerance(maxTolerance);
+}
+
+Film::Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector<AOV> aovs,
+           int blockSize)
+    : m_size(size), m_filter(filter), m_aovs(std::move(aovs)) {
+    for (int y = 0; y < size.y(); y += blockSize)
+        for (int x = 0; x < size.x(); x += blockSize)
+            m_blocks.push_back(std::make_unique<FilmBlock>(
+                Point2i(x, y),
+                Vector2i(std::min(blockSize, size.x() - x), std::min(blockSize, size.y() - y)),
+                filter, m_aovs));
+}
+
+bool Film::needsSurfaceAOVs() const {
+    return std::any_of(m_aovs.begin(), m_aovs.end(), [](AOV aov) {
+        return aov == AOV::Albedo || aov == AOV::Normal || aov == AOV::Depth ||
+               aov == AOV::Position;
+    });
+}
+
+std::unique_ptr<FilmBlock> Film::makePassBlock(size_t index) const {
+    return std::make_unique<FilmBlock>(m_blocks[index]->offset(), m_blocks[index]->size(), m_filter,
+                                       m_aovs);
+}
+
+size_t Film::samplesTaken() const {
+    size_t total = 0;
+    for (const auto &block : m_blocks)
+        for (const PixelStatistics &statistics : block->m_statistics)
+            total += statistics.count;
+    return total;
+}
+
+size_t Film::convergedPixels() const {
+    size_t total = 0;
+    for (const auto &block : m_blocks)
+        total += static_cast<size_t>(
+            std::count_if(block->m_statistics.begin(), block->m_statistics.end(),
+                          [](const PixelStatistics &statistics) { return statistics.converged; }));
+    return total;
+}
+
+LayeredImage Film::develop() const {
+    // Merges one layer of every block into an image-sized block, in block order.
+    auto merge = [&](int layer) {
+        ImageBlock image(m_size, m_filter);
+        for (const auto &block : m_blocks)
+            image.put(*block->m_layers[layer]);
+        return image;
+    };
+    const ImageBlock beauty = merge(FilmBlock::kBeauty);
+    LayeredImage result(m_size);
+    result.addLayer("", {"R", "G", "B"}, beauty.toBitmap());
+    for (AOV aov : m_aovs) {
+        Bitmap values(m_size);
+        switch (aov) {
+        case AOV::Albedo:
+            values = merge(FilmBlock::kAlbedo).toBitmap();
+            break;
+        case AOV::Normal:
+            values = merge(FilmBlock::kNormal).toBitmap();
+            break;
+        case AOV::Depth:
+            values = merge(FilmBlock::kDepth).toBitmap();
+            break;
+        case AOV::Position:
+            values = merge(FilmBlock::kPosition).toBitmap();
+            break;
+        case AOV::SampleCount:
+            for (const auto &block : m_blocks)
+                for (int y = 0; y < block->size().y(); ++y)
+                    for (int x = 0; x < block->size().x(); ++x)
+                        values(block->offset().y() + y, block->offset().x() + x) =
+                            Color3f(static_cast<float>(block->statistics(x, y).count));
+            break;
+        case AOV::Variance: {
+            // The mean of two independent half estimates A and B has variance
+            // (Var A + Var B)/4, and E[(A − B)²] = Var A + Var B: so (A − B)²/4 per pixel.
+            const ImageBlock even = merge(FilmBlock::kEvenHalf);
+            const int border = beauty.getBorderSize();
+            for (int y = 0; y < m_size.y(); ++y)
+                for (int x = 0; x < m_size.x(); ++x) {
+                    const Color4f &total = beauty(y + border, x + border);
+                    const Color4f &evenSum = even(y + border, x + border);
+                    const Color4f oddSum = total - evenSum;
+                    if (evenSum.w() <= 0.0f || oddSum.w() <= 0.0f)
+                        continue; // one sample or none: no variance estimate (0)
+                    const Color3f difference =
+                        evenSum.divideByFilterWeight() - oddSum.divideByFilterWeight();
+                    values(y, x) = difference * difference * 0.25f;
+                }
+            break;
+        }
+        }
+        result.addLayer(aovName(aov), aovChannels(aov), values);
+    }
+    return result;
+}
+
+} // namespace nori
