@@ -35,7 +35,9 @@ struct RenderOptions {
     double timeBudget = 0.0;
     /// AOV layers to record besides the integrator's own `aovs`.
     std::vector<AOV> aovs;
-    /// The pass schedule: 1, 1, 2, 4, ... samples per pixel, at most this many per pass.
+    /// The pass schedule: 1, 1, 2, 4, ... samples per pixel, at least minPassSamples and
+    /// at most maxPassSamples per pass (min = max = spp: the whole render in one pass).
+    size_t minPassSamples = 1;
     size_t maxPassSamples = 64;
     /// Called (on the calling thread) after every finished pass with the film so far.
     std::function<void(const Film &film, const PassReport &report)> passFinished;

@@ -68,12 +68,12 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
     return true;
 }
 
-/// Samples per pixel of pass `pass` (0-based): 1, 1, 2, 4, ... up to `maxPassSamples`,
+/// Samples per pixel of pass `pass` (0-based): 1, 1, 2, 4, ... within [minimum, maximum],
 /// so that early passes show a whole frame quickly and sample counts stay powers of two
 /// (where Sobol' points are best stratified) until the cap.
-size_t scheduledPassSize(size_t pass, size_t maxPassSamples) {
+size_t scheduledPassSize(size_t pass, size_t minimum, size_t maximum) {
     const size_t doubling = pass <= 1 ? 1 : size_t(1) << std::min<size_t>(pass - 1, 40);
-    return std::max<size_t>(1, std::min(doubling, maxPassSamples));
+    return std::max<size_t>(1, std::min(std::max(doubling, minimum), maximum));
 }
 
 } // namespace
@@ -109,8 +109,9 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
 
     size_t sppDone = 0;
     while (sppDone < targetSpp && !isCancelled(options)) {
-        size_t passSize =
-            std::min(scheduledPassSize(result.passes, options.maxPassSamples), targetSpp - sppDone);
+        size_t passSize = std::min(
+            scheduledPassSize(result.passes, options.minPassSamples, options.maxPassSamples),
+            targetSpp - sppDone);
         if (options.timeBudget > 0.0 && sppDone > 0) {
             // Shorten the pass to what the measured rate says fits in the budget left.
             const double elapsed = progress.elapsedSeconds();

@@ -1,0 +1,309 @@
+// The progressive render loop: images independent of thread count and pass schedule,
+// time budgets, AOV layers (albedo, normal, depth, position, sampleCount, variance),
+// multi-layer EXR and PFM files, adaptive sampling, and integrator t-tests under the
+// stratified and Sobol' samplers.
+#include <nori/filesystem.h>
+#include <nori/film.h>
+#include <nori/imagefile.h>
+#include <nori/parser.h>
+#include <nori/render.h>
+#include <nori/scene.h>
+#include <nori/statistics.h>
+
+#include "testutil.h"
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+using Catch::Contains;
+using nori::testing::TempDir;
+
+namespace {
+
+std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &directory = ".") {
+    auto scene = std::dynamic_pointer_cast<Scene>(loadFromXMLString(xml, directory));
+    REQUIRE(scene);
+    return scene;
+}
+
+RenderOptions quietOptions(int threads) {
+    RenderOptions options;
+    options.threads = threads;
+    options.showProgress = false;
+    return options;
+}
+
+/// Spheres on a floor under ambient occlusion: a noisy image, with `sampler` and `filter`.
+std::string aoScene(const std::string &sampler, int spp, const std::string &filter = "box",
+                    int seed = 0, const std::string &samplerExtra = "") {
+    return fmt::format(R"(<scene>
+    <integrator type="ao"/>
+    <sampler type="{}"><integer name="sampleCount" value="{}"/>
+        <integer name="seed" value="{}"/>{}</sampler>
+    <camera type="perspective">
+        <integer name="width" value="40"/><integer name="height" value="30"/>
+        <transform name="toWorld"><lookat origin="0,1,6" target="0,0.5,0"/></transform>
+        <rfilter type="{}"/>
+    </camera>
+    <mesh type="sphere"><point name="center" value="0,1,0"/></mesh>
+    <mesh type="sphere"><point name="center" value="1.5,0.5,0.5"/><float name="radius" value="0.5"/></mesh>
+    <mesh type="sphere"><point name="center" value="0,-1000,0"/><float name="radius" value="1000"/></mesh>
+</scene>)",
+                       sampler, spp, seed, samplerExtra, filter);
+}
+
+/// The largest difference between two images relative to max(1, |value|).
+float maxRelativeDifference(const Bitmap &a, const Bitmap &b) {
+    float largest = 0.0f;
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x)
+            for (int c = 0; c < 3; ++c)
+                largest = std::max(largest, std::abs(a(y, x)[c] - b(y, x)[c]) /
+                                                std::max(1.0f, std::abs(a(y, x)[c])));
+    return largest;
+}
+
+bool identical(const Bitmap &a, const Bitmap &b) {
+    if (a.width() != b.width() || a.height() != b.height())
+        return false;
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x)
+            if (!(a(y, x) == b(y, x)).all())
+                return false;
+    return true;
+}
+
+} // namespace
+
+TEST_CASE("Every sampler renders the same image with one and two threads, AOVs too",
+          "[render][progressive]") {
+    for (const std::string sampler : {"independent", "stratified", "sobol"}) {
+        CAPTURE(sampler);
+        auto scene = loadScene(aoScene(sampler, 6, "gaussian"));
+        RenderOptions one = quietOptions(1), two = quietOptions(2);
+        one.aovs = two.aovs = parseAOVList("albedo,normal,depth,variance", "test");
+        const RenderResult a = renderScene(*scene, one), b = renderScene(*scene, two);
+        CHECK(a.passes == 4); // 1, 1, 2, 2 spp
+        for (const std::string layer : {"", "albedo", "normal", "depth", "variance"}) {
+            CAPTURE(layer);
+            CHECK(identical(a.layers.layer(layer), b.layers.layer(layer)));
+        }
+    }
+}
+
+TEST_CASE("The pass schedule changes an image only by float summation order",
+          "[render][progressive]") {
+    // 64 spp in passes of 1 spp, in the default 1, 1, 2, ..., 32, and in one pass: each
+    // pixel sums 64 values in other groupings, so they differ by at most about 64 float
+    // roundings of the pixel value: 64 · 2^-24 < 4·10^-6 relative. With a box filter
+    // and one pass the order is the one of a single pass.
+    for (const std::string filter : {"box", "gaussian"}) {
+        CAPTURE(filter);
+        auto scene = loadScene(aoScene("sobol", 64, filter));
+        RenderOptions schedule = quietOptions(2);
+        const RenderResult standard = renderScene(*scene, schedule);
+        schedule.maxPassSamples = 1;
+        const RenderResult single = renderScene(*scene, schedule);
+        schedule.minPassSamples = schedule.maxPassSamples = 64;
+        const RenderResult whole = renderScene(*scene, schedule);
+        CHECK(standard.passes == 7);
+        CHECK(single.passes == 64);
+        CHECK(whole.passes == 1);
+        CHECK(maxRelativeDifference(standard.image, single.image) < 4e-6f);
+        CHECK(maxRelativeDifference(standard.image, whole.image) < 4e-6f);
+        // And the images are not all the same trivially: another seed differs by far more.
+        const RenderResult reseeded =
+            renderScene(*loadScene(aoScene("sobol", 64, filter, 1)), quietOptions(2));
+        CHECK(maxRelativeDifference(standard.image, reseeded.image) > 1e-2f);
+    }
+}
+
+TEST_CASE("A time budget stops within one pass of it", "[render][progressive]") {
+    // Millions of spp would take hours: the budget decides.
+    auto scene = loadScene(aoScene("independent", 1 << 24));
+    RenderOptions options = quietOptions(2);
+    options.timeBudget = 1.0;
+    std::vector<double> passEnds;
+    options.passFinished = [&](const Film &, const PassReport &report) {
+        passEnds.push_back(report.seconds);
+    };
+    const RenderResult result = renderScene(*scene, options);
+    REQUIRE(passEnds.size() >= 3);
+    CHECK_FALSE(result.complete);
+    CHECK_FALSE(result.cancelled);
+    double longestPass = passEnds.front();
+    for (size_t i = 1; i < passEnds.size(); ++i)
+        longestPass = std::max(longestPass, passEnds[i] - passEnds[i - 1]);
+    INFO("rendered " << result.seconds << " s in " << result.passes << " passes, longest "
+                     << longestPass << " s, " << result.samplesPerPixel << " spp");
+    CHECK(passEnds.back() <= options.timeBudget + longestPass);
+    CHECK(passEnds.back() >= options.timeBudget - longestPass);
+    CHECK(result.samplesTaken == result.samplesPerPixel * 40 * 30);
+}
+
+TEST_CASE("AOVs: the albedo, normal, depth and position of a plane", "[render][aov]") {
+    // A diffuse plane z = −2 facing the camera at the origin, tilted about x by 30°.
+    const Vector3f normal(0.0f, std::sin(degToRad(30.0f)), std::cos(degToRad(30.0f)));
+    const Point3f onPlane(0.0f, 0.0f, -2.0f);
+    TempDir dir;
+    dir.write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
+    auto scene = loadScene(R"(<scene>
+        <integrator type="direct_mis"><string name="aovs" value="albedo, normal depth,position"/></integrator>
+        <sampler type="sobol"><integer name="sampleCount" value="16"/></sampler>
+        <camera type="perspective"><integer name="width" value="24"/><integer name="height" value="16"/>
+            <float name="fov" value="40"/><rfilter type="box"/>
+            <transform name="toWorld"><lookat origin="0,0,0" target="0,0,-1"/></transform></camera>
+        <mesh type="obj"><string name="filename" value="quad.obj"/>
+            <bsdf type="diffuse"><color name="albedo" value="0.2, 0.4, 0.6"/></bsdf>
+            <transform name="toWorld"><scale value="10"/><rotate axis="1,0,0" angle="-30"/>
+                <translate value="0,0,-2"/></transform></mesh>
+        <emitter type="point"><point name="position" value="0,0,0"/><color name="power" value="10"/></emitter>
+    </scene>)",
+                           dir.path().string());
+    const RenderResult result = renderScene(*scene, quietOptions(2));
+    const Bitmap albedo = result.layers.layer("albedo"), normals = result.layers.layer("normal"),
+                 depth = result.layers.layer("depth"), position = result.layers.layer("position");
+    const Camera &camera = *scene->getCamera();
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 24; ++x) {
+            CAPTURE(x, y);
+            CHECK(albedo(y, x).isApprox(Color3f(0.2f, 0.4f, 0.6f), 1e-5f));
+            CHECK(Vector3f(normals(y, x).matrix()).isApprox(normal, 1e-5f));
+            // The position is a mean of points on the plane: on the plane.
+            const Point3f p(position(y, x).matrix());
+            CHECK(std::abs((p - onPlane).dot(normal)) < 1e-4f);
+            // The depth: the distance along each camera ray, averaged over a fine grid of
+            // the pixel (it varies smoothly, so 16 Sobol' samples match it to ~0.1%).
+            double expected = 0.0;
+            for (int s = 0; s < 64; ++s) {
+                Ray3f ray;
+                camera.sampleRay(ray, Point2f(x + (s % 8 + 0.5f) / 8, y + (s / 8 + 0.5f) / 8),
+                                 Point2f(0.5f, 0.5f));
+                expected += (onPlane - ray.o).dot(normal) / ray.d.dot(normal) / 64.0;
+            }
+            CHECK(depth(y, x).r() == Approx(expected).epsilon(2e-3));
+            CHECK(depth(y, x).r() == depth(y, x).b()); // a single channel, shown as grey
+        }
+    CHECK(result.layers.channelsOf("depth") == std::vector<std::string>{"Z"});
+    CHECK(result.layers.channelsOf("normal") == std::vector<std::string>{"X", "Y", "Z"});
+}
+
+TEST_CASE("The variance AOV estimates the variance of each pixel's mean", "[render][aov]") {
+    // Eight renders with different seeds: the spread of each pixel across them against
+    // the mean of the variance layer, over the image (box filter: pixels independent).
+    constexpr int kRenders = 8;
+    std::vector<Bitmap> images;
+    double layerMean = 0.0;
+    for (int seed = 0; seed < kRenders; ++seed) {
+        RenderOptions options = quietOptions(2);
+        options.aovs = {AOV::Variance, AOV::SampleCount};
+        const RenderResult result =
+            renderScene(*loadScene(aoScene("independent", 16, "box", seed)), options);
+        images.push_back(result.image);
+        const Bitmap variance = result.layers.layer("variance");
+        const Bitmap counts = result.layers.layer("sampleCount");
+        for (int y = 0; y < 30; ++y)
+            for (int x = 0; x < 40; ++x) {
+                layerMean += variance(y, x).r() / (kRenders * 1200.0);
+                CHECK(counts(y, x).r() == 16.0f);
+            }
+    }
+    double spread = 0.0; // the mean over pixels of the unbiased variance across renders
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) {
+            RunningMoments moments;
+            for (const Bitmap &image : images)
+                moments.add(image(y, x).r());
+            spread += moments.variance() / 1200.0;
+        }
+    // Both are means of 1200 × 8 and 1200 × 7 degrees of freedom of noisy estimates of
+    // the same quantity: within 10% (each has a relative error of about 2%).
+    INFO("variance layer " << layerMean << ", spread across seeds " << spread);
+    CHECK(layerMean == Approx(spread).epsilon(0.1));
+    CHECK(spread > 1e-3); // the scene is noisy: not 0 ≈ 0
+}
+
+TEST_CASE("Adaptive sampling spends samples where the noise is", "[render][adaptive]") {
+    auto scene = loadScene(aoScene("independent", 1024, "box", 0,
+                                   R"(<float name="maxTolerance" value="0.1"/>
+                                      <integer name="minSamples" value="32"/>)"));
+    RenderOptions options = quietOptions(2);
+    options.aovs = {AOV::SampleCount};
+    const RenderResult result = renderScene(*scene, options);
+    const Bitmap counts = result.layers.layer("sampleCount");
+    float fewest = 1e9f, most = 0.0f;
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) {
+            fewest = std::min(fewest, counts(y, x).r());
+            most = std::max(most, counts(y, x).r());
+        }
+    CHECK(result.complete);
+    CHECK(result.convergedPixels > 0);
+    // The sky (AO 0, no variance) stops at the first check after minSamples (a pass ends
+    // at 32 spp); occluded corners need far more.
+    CHECK(fewest == 32.0f);
+    CHECK(most > 256.0f);
+    CHECK(result.samplesTaken < 1024u * 1200u / 2);
+}
+
+TEST_CASE("Multi-layer EXR and PFM files round-trip", "[image][aov]") {
+    TempDir dir;
+    Bitmap colour(Vector2i(5, 3));
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x)
+            colour(y, x) = Color3f(0.1f * x, -2.5f * y, 1e6f * (x + y));
+    LayeredImage image;
+    image.addLayer("", {"R", "G", "B"}, colour);
+    image.addLayer("albedo", {"R", "G", "B"}, colour);
+    image.addLayer("depth", {"Z"}, colour);
+    image.attributes["nori/scene"] = "cbox.xml";
+    const std::string exr = (dir.path() / "layers.exr").string();
+    image.saveEXR(exr);
+    const LayeredImage read = LayeredImage::loadEXR(exr);
+    CHECK(read.layerNames() == std::vector<std::string>{"", "albedo", "depth"});
+    CHECK(identical(read.layer(""), colour));
+    CHECK(identical(read.layer("albedo"), colour));
+    CHECK((read.layer("depth")(2, 4) == Color3f(colour(2, 4).r())).all());
+    CHECK(read.attributes.at("nori/scene") == "cbox.xml");
+    // A texture load takes the beauty's R, G, B.
+    CHECK(identical(Bitmap::load(exr), colour));
+    CHECK_THAT(nori::testing::errorOf([&] { read.layer("normal"); }),
+               Contains("no layer 'normal' (its layers: (beauty), albedo, depth)"));
+
+    const std::string pfm = (dir.path() / "image.pfm").string();
+    colour.savePFM(pfm);
+    CHECK(identical(Bitmap::load(pfm), colour));
+    // Truncated or malformed PFM files are errors naming the file.
+    const std::string bytes = readBinaryFile(pfm, "test");
+    CHECK_THAT(nori::testing::errorOf(
+                   [&] { decodeImageFile(bytes.substr(0, bytes.size() - 1), "short.pfm"); }),
+               Contains("'short.pfm' ends early"));
+    CHECK_THAT(nori::testing::errorOf([&] { decodeImageFile("PF\n5 x3\n-1\n", "bad.pfm"); }),
+               Contains("'bad.pfm' has a malformed header"));
+}
+
+TEST_CASE("nori --aovs and --pfm write the layers and OIDN's inputs", "[cli][aov]") {
+    TempDir dir;
+    dir.write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
+    const std::string scene = dir.write("plane.xml", R"(<scene><integrator type="ao"/>
+        <camera type="perspective"><integer name="width" value="8"/><integer name="height" value="8"/>
+            <transform name="toWorld"><lookat origin="0,0,3" target="0,0,0"/></transform></camera>
+        <mesh type="obj"><string name="filename" value="quad.obj"/></mesh></scene>)");
+    auto result = nori::testing::runNori(
+        {"--aovs", "depth,sampleCount", "--pfm", "--no-progress", "--spp", "4", scene});
+    INFO(result.output);
+    REQUIRE(result.exitCode == 0);
+    const LayeredImage image = LayeredImage::loadEXR((dir.path() / "plane.exr").string());
+    CHECK(image.layerNames() ==
+          std::vector<std::string>{"", "albedo", "depth", "normal", "sampleCount"});
+    CHECK(image.layer("sampleCount")(4, 4).r() == 4.0f);
+    CHECK(image.layer("depth")(4, 4).r() == Approx(3.0f).epsilon(0.01));
+    for (const char *file : {"plane.pfm", "plane_albedo.pfm", "plane_normal.pfm"})
+        CHECK(std::filesystem::exists(dir.path() / file));
+    CHECK(Bitmap::load((dir.path() / "plane_normal.pfm").string())(4, 4).isApprox(
+        Color3f(0.0f, 0.0f, 1.0f), 1e-5f));
+
+    auto typo = nori::testing::runNori({"--aovs", "albdo", scene});
+    CHECK(typo.exitCode == 1);
+    CHECK_THAT(typo.output, Contains("--aovs: unknown AOV 'albdo' (did you mean 'albedo'?)"));
+}
