@@ -6,7 +6,9 @@
 #include <nori/film.h>
 #include <nori/imagefile.h>
 #include <nori/parser.h>
+#include <nori/pcg32.h>
 #include <nori/render.h>
+#include <nori/rfilter.h>
 #include <nori/scene.h>
 #include <nori/statistics.h>
 
@@ -306,4 +308,78 @@ TEST_CASE("nori --aovs and --pfm write the layers and OIDN's inputs", "[cli][aov
     auto typo = nori::testing::runNori({"--aovs", "albdo", scene});
     CHECK(typo.exitCode == 1);
     CHECK_THAT(typo.output, Contains("--aovs: unknown AOV 'albdo' (did you mean 'albedo'?)"));
+}
+
+TEST_CASE("Filter importance sampling draws offsets in proportion to |filter|",
+          "[render][adaptive][chi2]") {
+    for (const std::string type : {"gaussian", "mitchell", "tent", "box"}) {
+        CAPTURE(type);
+        auto filter = std::dynamic_pointer_cast<ReconstructionFilter>(
+            loadFromXMLString(fmt::format(R"(<rfilter type="{}"/>)", type)));
+        REQUIRE(filter);
+        const FilterSampler sampler(filter.get());
+        const float radius = filter->getRadius();
+        // 64 bins over [−r, r]; expected counts ∝ ∫|f| over each bin (midpoint rule on
+        // a fine grid), and the sign of f where the sample lands.
+        constexpr int kBins = 64, kSamples = 200000;
+        std::vector<double> observed(kBins, 0.0), expected(kBins, 0.0), control(kBins, 1.0);
+        PCG32 random(7, 3);
+        size_t wrongSign = 0;
+        for (int i = 0; i < kSamples; ++i) {
+            float sign;
+            const float u = random.nextFloat();
+            const Point2f offset = sampler.sample(Point2f(u, random.nextFloat()), sign);
+            const int bin = std::clamp(
+                static_cast<int>((offset.x() + radius) / (2 * radius) * kBins), 0, kBins - 1);
+            observed[static_cast<size_t>(bin)] += 1.0;
+            const float f = filter->eval(offset.x()) * filter->eval(offset.y());
+            wrongSign += (f < -1e-4f && sign > 0.0f) || (f > 1e-4f && sign < 0.0f) ? 1 : 0;
+        }
+        double total = 0.0;
+        for (int bin = 0; bin < kBins; ++bin) {
+            for (int k = 0; k < 100; ++k) {
+                const float x = -radius + 2 * radius * (bin + (k + 0.5f) / 100) / kBins;
+                // The tabulated filter, as ImageBlock and FilterSampler use it.
+                const float step = radius / 32;
+                expected[static_cast<size_t>(bin)] +=
+                    std::abs(filter->eval(std::floor(std::abs(x) / step) * step));
+            }
+            total += expected[static_cast<size_t>(bin)];
+        }
+        for (double &count : expected)
+            count *= kSamples / total;
+        for (double &count : control)
+            count = double(kSamples) / kBins;
+        const ChiSquareResult result = pearsonChiSquareTest(observed, expected, 5.0, 0.01);
+        INFO(result.message);
+        CHECK(result.passed);
+        CHECK(wrongSign < kSamples / 1000); // only at the steps' edges
+        if (type != "box") // Control: a uniform density is rejected for a peaked filter.
+            CHECK_FALSE(pearsonChiSquareTest(observed, control, 5.0, 0.01).passed);
+    }
+}
+
+TEST_CASE("Filter importance sampling converges to the splatted image", "[render][adaptive]") {
+    // Per-pixel differences of the two reconstructions at 64 spp have mean zero (t-test
+    // over the pixels), for a positive filter and for one with negative lobes.
+    for (const std::string filter : {"gaussian", "mitchell"}) {
+        CAPTURE(filter);
+        auto scene = loadScene(aoScene("sobol", 64, filter));
+        RenderOptions options = quietOptions(2);
+        const RenderResult splatted = renderScene(*scene, options);
+        options.filterImportanceSampling = true;
+        const RenderResult sampled = renderScene(*scene, options);
+        auto differenceTest = [&](float scale) {
+            RunningMoments differences;
+            for (int y = 0; y < 30; ++y)
+                for (int x = 0; x < 40; ++x)
+                    differences.add(scale * sampled.image(y, x).r() - splatted.image(y, x).r());
+            return studentTTest(differences.mean, differences.variance(), differences.count, 0.0,
+                                0.01);
+        };
+        const StudentTResult same = differenceTest(1.0f);
+        INFO("t = " << same.t);
+        CHECK(same.passed);
+        CHECK_FALSE(differenceTest(1.03f).passed); // control: 3% off is seen
+    }
 }

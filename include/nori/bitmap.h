@@ -34,4 +34,7 @@ public:
     void savePNG(const std::string &filename, float exposure = 0.0f) const;
 };
 
+/// The mean over pixels and channels of (image − reference)²; the sizes must agree.
+double meanSquaredError(const Bitmap &image, const Bitmap &reference);
+
 } // namespace nori

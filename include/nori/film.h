@@ -20,6 +20,11 @@ struct FilmSample {
     Color3f radiance;             ///< camera weight × Li
     uint32_t sampleIndex = 0;     ///< even indices also go to the half-buffer
     const SurfaceAOVs *surface{}; ///< the surface AOVs, when the film records any
+    /// Filter importance sampling (adaptive sampling): the pixel the sample was drawn
+    /// for, which alone receives it with weight filterSign (see FilterSampler); nullptr:
+    /// the sample is splatted with the filter into every pixel it reaches.
+    const Point2i *ownPixel{};
+    float filterSign = 1.0f;
 };
 
 /// Running statistics of one pixel's sample luminances (unfiltered).

@@ -23,6 +23,9 @@ public:
     void clear() { setConstant(Color4f()); }
     /// Splats a sample at image position `position` (pixels, absolute) with the filter.
     void put(const Point2f &position, const Color3f &value);
+    /// Adds a value with `weight` to the pixel `pixel` (absolute) only: a sample of filter
+    /// importance sampling (see FilterSampler), whose weight is the filter's sign.
+    void putInPixel(const Point2i &pixel, const Color3f &value, float weight);
     /// Adds another block's accumulated values (borders included) at its offset.
     void put(const ImageBlock &block);
     /// The normalised image of the block's interior (without border).
@@ -30,6 +33,9 @@ public:
 
 private:
     static constexpr int kFilterResolution = 32;
+
+    /// The filter's weight at `distance` pixels along one axis (from the table).
+    float weightAt(float distance) const;
 
     Point2i m_offset{0, 0};
     Vector2i m_size;

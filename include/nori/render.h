@@ -39,6 +39,9 @@ struct RenderOptions {
     /// at most maxPassSamples per pass (min = max = spp: the whole render in one pass).
     size_t minPassSamples = 1;
     size_t maxPassSamples = 64;
+    /// Filter importance sampling (see FilterSampler) instead of splatting: each pixel
+    /// from its own samples. Always on under adaptive sampling.
+    bool filterImportanceSampling = false;
     /// Called (on the calling thread) after every finished pass with the film so far.
     std::function<void(const Film &film, const PassReport &report)> passFinished;
 };

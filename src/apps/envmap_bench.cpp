@@ -79,14 +79,6 @@ Bitmap renderEnvmapScene(const std::string &sampling, int spp, int width, int he
     return renderScene(*root, options).image;
 }
 
-double rmse(const Bitmap &image, const Bitmap &reference) {
-    double sum = 0.0;
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = 0; x < image.width(); ++x)
-            sum += (image(y, x) - reference(y, x)).square().sum() / 3.0;
-    return std::sqrt(sum / (double(image.width()) * image.height()));
-}
-
 void rmseFigures(int spp, int referenceSpp, int width, int height) {
     auto start = std::chrono::steady_clock::now();
     const Bitmap reference = renderEnvmapScene("luminance", referenceSpp, width, height);
@@ -96,7 +88,8 @@ void rmseFigures(int spp, int referenceSpp, int width, int height) {
     const char *names[2] = {"luminance", "uniform"};
     for (int i = 0; i < 2; ++i) {
         start = std::chrono::steady_clock::now();
-        errors[i] = rmse(renderEnvmapScene(names[i], spp, width, height), reference);
+        errors[i] =
+            std::sqrt(meanSquaredError(renderEnvmapScene(names[i], spp, width, height), reference));
         std::cout << fmt::format("path_mis at {} spp, {} sampling: RMSE {:.5f} ({:.1f} s)\n", spp,
                                  names[i], errors[i], secondsSince(start));
     }

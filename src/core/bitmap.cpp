@@ -75,4 +75,15 @@ void Bitmap::savePNG(const std::string &filename, float exposure) const {
         throw NoriException("cannot write PNG image '{}'", filename);
 }
 
+double meanSquaredError(const Bitmap &image, const Bitmap &reference) {
+    if (image.width() != reference.width() || image.height() != reference.height())
+        throw NoriException("cannot compare a {}x{} image with a {}x{} one", image.width(),
+                            image.height(), reference.width(), reference.height());
+    double sum = 0.0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+            sum += (image(y, x) - reference(y, x)).cast<double>().square().sum();
+    return sum / (3.0 * image.width() * image.height());
+}
+
 } // namespace nori

@@ -31,20 +31,26 @@ FilmBlock::FilmBlock(const Point2i &offset, const Vector2i &size,
 }
 
 void FilmBlock::put(const FilmSample &sample) {
-    m_layers[kBeauty]->put(sample.position, sample.radiance);
+    auto splat = [&](int layer, const Color3f &value) {
+        if (sample.ownPixel)
+            m_layers[layer]->putInPixel(*sample.ownPixel, value, sample.filterSign);
+        else
+            m_layers[layer]->put(sample.position, value);
+    };
+    splat(kBeauty, sample.radiance);
     if (m_layers[kEvenHalf] && sample.sampleIndex % 2 == 0)
-        m_layers[kEvenHalf]->put(sample.position, sample.radiance);
+        splat(kEvenHalf, sample.radiance);
     if (!sample.surface)
         return;
     const SurfaceAOVs &surface = *sample.surface;
     if (m_layers[kAlbedo])
-        m_layers[kAlbedo]->put(sample.position, surface.albedo);
+        splat(kAlbedo, surface.albedo);
     if (m_layers[kNormal])
-        m_layers[kNormal]->put(sample.position, Color3f(surface.normal.array()));
+        splat(kNormal, Color3f(surface.normal.array()));
     if (m_layers[kDepth])
-        m_layers[kDepth]->put(sample.position, Color3f(surface.depth));
+        splat(kDepth, Color3f(surface.depth));
     if (m_layers[kPosition])
-        m_layers[kPosition]->put(sample.position, Color3f(surface.position.array()));
+        splat(kPosition, Color3f(surface.position.array()));
 }
 
 void FilmBlock::countSample(int x, int y, float luminance) {

@@ -2,6 +2,12 @@
 
 namespace nori {
 
+float ImageBlock::weightAt(float distance) const {
+    const int index =
+        std::min(static_cast<int>(std::abs(distance) * m_lookupFactor), kFilterResolution);
+    return m_filterTable[index];
+}
+
 ImageBlock::ImageBlock(const Vector2i &size, const ReconstructionFilter *filter) : m_size(size) {
     if (filter) {
         m_filterRadius = filter->getRadius();
@@ -32,11 +38,6 @@ void ImageBlock::put(const Point2f &position, const Color3f &value) {
     const int yMax = std::min(static_cast<int>(rows()) - 1,
                               static_cast<int>(std::floor(pos.y() + m_filterRadius)));
 
-    auto weightAt = [this](float distance) {
-        int index =
-            std::min(static_cast<int>(std::abs(distance) * m_lookupFactor), kFilterResolution);
-        return m_filterTable[index];
-    };
     for (int y = yMin; y <= yMax; ++y) {
         float weightY = weightAt(static_cast<float>(y) - pos.y());
         for (int x = xMin; x <= xMax; ++x) {
@@ -44,6 +45,11 @@ void ImageBlock::put(const Point2f &position, const Color3f &value) {
             coeffRef(y, x) += Color4f(value, weight);
         }
     }
+}
+
+void ImageBlock::putInPixel(const Point2i &pixel, const Color3f &value, float weight) {
+    coeffRef(pixel.y() - m_offset.y() + m_borderSize, pixel.x() - m_offset.x() + m_borderSize) +=
+        Color4f(value, weight);
 }
 
 void ImageBlock::put(const ImageBlock &block) {

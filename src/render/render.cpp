@@ -26,10 +26,17 @@ struct SampleRange {
 /// Renders the samples `range` of the block's pixels that adaptive sampling has not
 /// stopped into `pass`. Returns false when cancelled part-way.
 bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
-                     const FilmBlock &accumulated, FilmBlock &pass, SampleRange range,
-                     const RenderOptions &options, size_t &invalidSamples) {
+                     const FilterSampler &filterSampler, const FilmBlock &accumulated,
+                     FilmBlock &pass, SampleRange range, const RenderOptions &options,
+                     size_t &invalidSamples) {
     const Integrator *integrator = scene.getIntegrator();
     const bool surfaceAOVs = film.needsSurfaceAOVs();
+    // Under adaptive sampling each pixel is reconstructed from its own samples, drawn
+    // from the filter: with splatting, a stopped pixel would keep taking its running
+    // neighbours' samples, and its filter would lean toward them (by whole units at the
+    // edge of a light).
+    const bool importanceSampleFilter =
+        options.filterImportanceSampling || sampler.getMaxTolerance() > 0.0f;
     sampler.prepare(pass.beauty());
     for (int y = 0; y < pass.size().y(); ++y) {
         for (int x = 0; x < pass.size().x(); ++x) {
@@ -44,7 +51,12 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
                 // The fixed order of dimensions: film position, aperture, then the
                 // integrator's.
                 sampler.generate(pixel, index);
-                const Point2f position = pixel.cast<float>() + sampler.next2D();
+                float filterSign = 1.0f;
+                const Point2f position =
+                    importanceSampleFilter
+                        ? Point2f(pixel.cast<float>() + Point2f(0.5f, 0.5f) +
+                                  filterSampler.sample(sampler.next2D(), filterSign))
+                        : Point2f(pixel.cast<float>() + sampler.next2D());
                 const Point2f apertureSample = sampler.next2D();
                 Ray3f ray;
                 Color3f value = scene.sampleCameraRay(ray, position, apertureSample);
@@ -60,7 +72,8 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
                     ++invalidSamples;
                     continue;
                 }
-                pass.put({position, value, index, surfaceAOVs ? &surface : nullptr});
+                pass.put({position, value, index, surfaceAOVs ? &surface : nullptr,
+                          importanceSampleFilter ? &pixel : nullptr, filterSign});
                 pass.countSample(x, y, value.getLuminance());
             }
         }
@@ -96,6 +109,7 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
         if (std::find(aovs.begin(), aovs.end(), aov) == aovs.end())
             aovs.push_back(aov);
     Film film(outputSize, camera->getReconstructionFilter(), aovs);
+    const FilterSampler filterSampler(camera->getReconstructionFilter());
 
     scene.getIntegrator()->preprocess(&scene);
 
@@ -134,8 +148,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
                         std::unique_ptr<FilmBlock> pass = film.makePassBlock(index);
                         std::unique_ptr<Sampler> sampler = prototype->clone();
                         size_t invalid = 0;
-                        if (!renderBlockPass(scene, *sampler, film, film.block(index), *pass, range,
-                                             options, invalid)) {
+                        if (!renderBlockPass(scene, *sampler, film, filterSampler,
+                                             film.block(index), *pass, range, options, invalid)) {
                             interrupted = true;
                             return;
                         }
