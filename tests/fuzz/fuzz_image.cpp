@@ -1,4 +1,5 @@
-// libFuzzer target of the image decoders (PNG, JPEG, HDR, EXR; src/core/imagefile.cpp):
+// libFuzzer target of the image decoders (PNG, JPEG, HDR, EXR with every channel and
+// its attributes, PFM; src/core/imagefile.cpp):
 // any input must decode or end in a NoriException, within 2^20 pixels.
 #include <nori/imagefile.h>
 

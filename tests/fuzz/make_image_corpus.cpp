@@ -1,7 +1,10 @@
 // Writes the seed corpus of the image fuzz target (tests/fuzz/corpus/image): tiny PNG,
-// JPEG, HDR (run-length coded and flat) and EXR (float and half) files, made with the
-// writers the project links (stb_image_write, tinyexr).
+// JPEG, HDR (run-length coded and flat), EXR (float, half, and our multi-layer renders
+// with attributes) and PFM files, made with the writers the project links
+// (stb_image_write, tinyexr) and its own (LayeredImage, Bitmap::savePFM).
 //   nori-make-image-corpus tests/fuzz/corpus/image
+#include <nori/layeredimage.h>
+
 #include <stb_image_write.h>
 #include <tinyexr.h>
 
@@ -33,6 +36,31 @@ int main(int argc, char **argv) {
         ok &&
         SaveEXR(values.data(), 16, 4, 3, 0, (d + "float.exr").c_str(), &error) == TINYEXR_SUCCESS &&
         SaveEXR(values.data(), 16, 4, 3, 1, (d + "half.exr").c_str(), &error) == TINYEXR_SUCCESS;
+    nori::Bitmap colour(Eigen::Vector2i(5, 3));
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x)
+            colour(y, x) = nori::Color3f(0.1f * x, 0.2f * y, 1.5f);
+    nori::LayeredImage layered;
+    layered.addLayer("", {"R", "G", "B"}, colour);
+    layered.addLayer("normal", {"X", "Y", "Z"}, colour);
+    layered.addLayer("depth", {"Z"}, colour);
+    layered.attributes["nori/spp"] = "64";
+    try {
+        layered.saveEXR(d + "layers.exr");
+        colour.savePFM(d + "rgb.pfm");
+    } catch (const nori::NoriException &) {
+        ok = false;
+    }
+    // A grey PFM ("Pf"), big-endian (positive scale), written by hand.
+    if (std::FILE *grey = std::fopen((d + "grey.pfm").c_str(), "wb")) {
+        const unsigned char pixels[2 * 2 * 4] = {0x3f, 0x80, 0, 0, 0x40, 0, 0, 0,
+                                                 0x3f, 0,    0, 0, 0,    0, 0, 0};
+        ok = ok && std::fputs("Pf\n2 2\n1.0\n", grey) >= 0 &&
+             std::fwrite(pixels, 1, sizeof(pixels), grey) == sizeof(pixels);
+        std::fclose(grey);
+    } else {
+        ok = false;
+    }
     if (!ok)
         std::fprintf(stderr, "could not write the corpus to %s\n", argv[1]);
     return ok ? 0 : 1;
