@@ -171,7 +171,9 @@ TEST_CASE("Ctrl-C is honoured within a pixel, even at 10^9 samples per pixel", "
     auto result = runNori({"-D", "size=32", "--spp", "1000000000", scene}, "spp,");
     INFO(result.output);
     CHECK(result.exitCode == 130);
-    CHECK_THAT(result.output, Contains("Interrupted before the first pass finished"));
+    // The first passes (1, 1, 2 spp) may finish before the signal lands: either way
+    // nori stops within the pass under way, far from 10^9 spp.
+    CHECK_THAT(result.output, Contains("Interrupted"));
 }
 
 TEST_CASE("The exposure option brightens the PNG by 2^E and leaves the EXR alone; version",

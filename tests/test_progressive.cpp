@@ -18,22 +18,11 @@
 
 using namespace nori;
 using Catch::Contains;
+using nori::testing::loadScene;
+using nori::testing::quietOptions;
 using nori::testing::TempDir;
 
 namespace {
-
-std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &directory = ".") {
-    auto scene = std::dynamic_pointer_cast<Scene>(loadFromXMLString(xml, directory));
-    REQUIRE(scene);
-    return scene;
-}
-
-RenderOptions quietOptions(int threads) {
-    RenderOptions options;
-    options.threads = threads;
-    options.showProgress = false;
-    return options;
-}
 
 /// Spheres on a floor under ambient occlusion: a noisy image, with `sampler` and `filter`.
 std::string aoScene(const std::string &sampler, int spp, const std::string &filter = "box",

@@ -10,21 +10,10 @@
 #include <catch2/catch.hpp>
 
 using namespace nori;
+using nori::testing::loadScene;
+using nori::testing::quietOptions;
 
 namespace {
-
-std::shared_ptr<Scene> loadScene(const std::string &xml) {
-    auto scene = std::dynamic_pointer_cast<Scene>(loadFromXMLString(xml));
-    REQUIRE(scene);
-    return scene;
-}
-
-RenderOptions quietOptions(int threads) {
-    RenderOptions options;
-    options.threads = threads;
-    options.showProgress = false;
-    return options;
-}
 
 /// A value chosen by the ray direction: NaN, negative, infinite or 1.
 Color3f invalidRadiance(const Ray3f &ray) {

@@ -26,12 +26,6 @@ namespace {
 
 const std::string kSceneDirectory = std::string(NORI_SOURCE_DIR) + "/scenes/textured";
 
-std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &directory) {
-    auto scene = std::dynamic_pointer_cast<Scene>(loadFromXMLString(xml, directory));
-    REQUIRE(scene);
-    return scene;
-}
-
 /// A square perspective camera on the +z axis at `distance`, looking at the origin.
 std::string cameraOnZAxis(float fov, int size, float distance) {
     return fmt::format(R"(<camera type="perspective"><float name="fov" value="{}"/>

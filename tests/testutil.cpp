@@ -94,6 +94,20 @@ std::shared_ptr<Scene> litFloor(const std::string &integrator, const std::string
     return scene;
 }
 
+std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &directory) {
+    auto scene = std::dynamic_pointer_cast<Scene>(loadFromXMLString(xml, directory));
+    if (!scene)
+        throw NoriException("loadScene: the XML is not a scene");
+    return scene;
+}
+
+RenderOptions quietOptions(int threads) {
+    RenderOptions options;
+    options.threads = threads;
+    options.showProgress = false;
+    return options;
+}
+
 RunningMoments estimatePixel(Scene &scene, size_t count) {
     scene.getIntegrator()->preprocess(&scene);
     std::unique_ptr<Sampler> sampler = scene.getSampler()->clone();

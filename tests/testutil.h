@@ -2,6 +2,7 @@
 #pragma once
 
 #include <nori/object.h>
+#include <nori/render.h>
 #include <nori/scene.h>
 #include <nori/statistics.h>
 
@@ -36,6 +37,12 @@ struct ProcessResult {
 /// once that text has appeared in the output.
 ProcessResult runNori(const std::vector<std::string> &arguments,
                       const std::string &interruptAfter = "");
+
+/// The scene of an XML text (files relative to `directory`); throws when it is not one.
+std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &directory = ".");
+
+/// Render options for tests: `threads` threads, no progress bar.
+RenderOptions quietOptions(int threads);
 
 /// A scene for closed-form lighting tests: a 1×1 camera with a tiny field of view looking
 /// at the origin of a 2000×2000 diffuse floor (albedo 0.5, normal +y) from (0.3, 2, 1),

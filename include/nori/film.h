@@ -40,8 +40,10 @@ struct PixelStatistics {
 
 class FilmBlock {
 public:
+    /// `pixelStatistics`: whether to keep PixelStatistics (adaptive sampling, the
+    /// sampleCount layer), 24 bytes a pixel that other renders do without.
     FilmBlock(const Point2i &offset, const Vector2i &size, const ReconstructionFilter *filter,
-              const std::vector<AOV> &aovs);
+              const std::vector<AOV> &aovs, bool pixelStatistics);
 
     const Point2i &offset() const { return m_offset; }
     const Vector2i &size() const { return m_size; }
@@ -50,10 +52,12 @@ public:
 
     /// Splats a sample into every layer the film records.
     void put(const FilmSample &sample);
-    /// Counts a finished sample of the pixel at `offset() + (x, y)`.
+    /// Counts a finished sample of the pixel at `offset() + (x, y)` (when the block
+    /// keeps statistics).
     void countSample(int x, int y, float luminance);
-    const PixelStatistics &statistics(int x, int y) const {
-        return m_statistics[static_cast<size_t>(y * m_size.x() + x)];
+    /// Whether adaptive sampling has stopped the pixel at `offset() + (x, y)`.
+    bool isConverged(int x, int y) const {
+        return !m_statistics.empty() && m_statistics[index(x, y)].converged;
     }
     /// Adds a pass's block (same region and layers) to this one.
     void add(const FilmBlock &pass);
@@ -63,6 +67,8 @@ public:
 
 private:
     friend class Film;
+    size_t index(int x, int y) const { return static_cast<size_t>(y * m_size.x() + x); }
+
     /// The filtered sums the film keeps: the beauty, the even samples' half of it, and
     /// the surface AOVs (depth as grey).
     enum Layer { kBeauty, kEvenHalf, kAlbedo, kNormal, kDepth, kPosition, kLayerCount };
@@ -76,9 +82,11 @@ private:
 class Film {
 public:
     /// The film of an image of `size` pixels, split into blocks of at most blockSize²
-    /// pixels, row by row.
+    /// pixels, row by row; `adaptive`: keep the statistics adaptive sampling needs. The
+    /// image-sized buffer that develop() merges into is allocated here, so that a film
+    /// too large for memory fails before rendering, not after.
     Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector<AOV> aovs,
-         int blockSize = 32);
+         bool adaptive, int blockSize = 32);
 
     const Vector2i &size() const { return m_size; }
     const std::vector<AOV> &aovs() const { return m_aovs; }
@@ -91,20 +99,24 @@ public:
     /// An empty block over the same region as block `index`, for a pass to render into.
     std::unique_ptr<FilmBlock> makePassBlock(size_t index) const;
 
-    /// Samples taken so far, over all pixels.
-    size_t samplesTaken() const;
     /// Pixels adaptive sampling has stopped.
     size_t convergedPixels() const;
 
     /// The image: the beauty as R, G, B and one layer per AOV. Blocks are merged in
     /// index order, so every pixel sums the same values in the same order every time.
+    /// Not thread-safe (it reuses one merge buffer).
     LayeredImage develop() const;
 
 private:
+    /// One layer of every block, merged into m_merged.
+    const ImageBlock &merge(int layer) const;
+
     Vector2i m_size;
     const ReconstructionFilter *m_filter;
     std::vector<AOV> m_aovs;
+    bool m_pixelStatistics;
     std::vector<std::unique_ptr<FilmBlock>> m_blocks;
+    mutable ImageBlock m_merged;
 };
 
 } // namespace nori

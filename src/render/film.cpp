@@ -14,8 +14,10 @@ bool PixelStatistics::withinTolerance(float maxTolerance) const {
 }
 
 FilmBlock::FilmBlock(const Point2i &offset, const Vector2i &size,
-                     const ReconstructionFilter *filter, const std::vector<AOV> &aovs)
-    : m_offset(offset), m_size(size), m_statistics(static_cast<size_t>(size.prod())) {
+                     const ReconstructionFilter *filter, const std::vector<AOV> &aovs,
+                     bool pixelStatistics)
+    : m_offset(offset), m_size(size),
+      m_statistics(pixelStatistics ? static_cast<size_t>(size.prod()) : 0) {
     auto has = [&](AOV aov) { return std::find(aovs.begin(), aovs.end(), aov) != aovs.end(); };
     const bool layerWanted[kLayerCount] = {true,
                                            has(AOV::Variance),
@@ -54,7 +56,9 @@ void FilmBlock::put(const FilmSample &sample) {
 }
 
 void FilmBlock::countSample(int x, int y, float luminance) {
-    PixelStatistics &statistics = m_statistics[static_cast<size_t>(y * m_size.x() + x)];
+    if (m_statistics.empty())
+        return;
+    PixelStatistics &statistics = m_statistics[index(x, y)];
     ++statistics.count;
     statistics.sum += luminance;
     statistics.sumOfSquares += double(luminance) * luminance;
@@ -78,14 +82,17 @@ void FilmBlock::updateConvergence(size_t minSamples, float maxTolerance) {
 }
 
 Film::Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector<AOV> aovs,
-           int blockSize)
-    : m_size(size), m_filter(filter), m_aovs(std::move(aovs)) {
+           bool adaptive, int blockSize)
+    : m_size(size), m_filter(filter), m_aovs(std::move(aovs)),
+      m_pixelStatistics(adaptive ||
+                        std::find(m_aovs.begin(), m_aovs.end(), AOV::SampleCount) != m_aovs.end()),
+      m_merged(size, filter) {
     for (int y = 0; y < size.y(); y += blockSize)
         for (int x = 0; x < size.x(); x += blockSize)
             m_blocks.push_back(std::make_unique<FilmBlock>(
                 Point2i(x, y),
                 Vector2i(std::min(blockSize, size.x() - x), std::min(blockSize, size.y() - y)),
-                filter, m_aovs));
+                filter, m_aovs, m_pixelStatistics));
 }
 
 bool Film::needsSurfaceAOVs() const {
@@ -97,15 +104,7 @@ bool Film::needsSurfaceAOVs() const {
 
 std::unique_ptr<FilmBlock> Film::makePassBlock(size_t index) const {
     return std::make_unique<FilmBlock>(m_blocks[index]->offset(), m_blocks[index]->size(), m_filter,
-                                       m_aovs);
-}
-
-size_t Film::samplesTaken() const {
-    size_t total = 0;
-    for (const auto &block : m_blocks)
-        for (const PixelStatistics &statistics : block->m_statistics)
-            total += statistics.count;
-    return total;
+                                       m_aovs, m_pixelStatistics);
 }
 
 size_t Film::convergedPixels() const {
@@ -117,17 +116,16 @@ size_t Film::convergedPixels() const {
     return total;
 }
 
+const ImageBlock &Film::merge(int layer) const {
+    m_merged.clear();
+    for (const auto &block : m_blocks)
+        m_merged.put(*block->m_layers[layer]);
+    return m_merged;
+}
+
 LayeredImage Film::develop() const {
-    // Merges one layer of every block into an image-sized block, in block order.
-    auto merge = [&](int layer) {
-        ImageBlock image(m_size, m_filter);
-        for (const auto &block : m_blocks)
-            image.put(*block->m_layers[layer]);
-        return image;
-    };
-    const ImageBlock beauty = merge(FilmBlock::kBeauty);
     LayeredImage result(m_size);
-    result.addLayer("", {"R", "G", "B"}, beauty.toBitmap());
+    result.addLayer("", {"R", "G", "B"}, merge(FilmBlock::kBeauty).toBitmap());
     for (AOV aov : m_aovs) {
         Bitmap values(m_size);
         switch (aov) {
@@ -147,13 +145,14 @@ LayeredImage Film::develop() const {
             for (const auto &block : m_blocks)
                 for (int y = 0; y < block->size().y(); ++y)
                     for (int x = 0; x < block->size().x(); ++x)
-                        values(block->offset().y() + y, block->offset().x() + x) =
-                            Color3f(static_cast<float>(block->statistics(x, y).count));
+                        values(block->offset().y() + y, block->offset().x() + x) = Color3f(
+                            static_cast<float>(block->m_statistics[block->index(x, y)].count));
             break;
         case AOV::Variance: {
             // The mean of two independent half estimates A and B has variance
             // (Var A + Var B)/4, and E[(A − B)²] = Var A + Var B: so (A − B)²/4 per pixel.
             const ImageBlock even = merge(FilmBlock::kEvenHalf);
+            const ImageBlock &beauty = merge(FilmBlock::kBeauty);
             const int border = beauty.getBorderSize();
             for (int y = 0; y < m_size.y(); ++y)
                 for (int x = 0; x < m_size.x(); ++x) {

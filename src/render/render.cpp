@@ -28,7 +28,7 @@ struct SampleRange {
 bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
                      const FilterSampler &filterSampler, const FilmBlock &accumulated,
                      FilmBlock &pass, SampleRange range, const RenderOptions &options,
-                     size_t &invalidSamples) {
+                     size_t &validSamples, size_t &invalidSamples) {
     const Integrator *integrator = scene.getIntegrator();
     const bool surfaceAOVs = film.needsSurfaceAOVs();
     // Under adaptive sampling each pixel is reconstructed from its own samples, drawn
@@ -40,7 +40,7 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
     sampler.prepare(pass.beauty());
     for (int y = 0; y < pass.size().y(); ++y) {
         for (int x = 0; x < pass.size().x(); ++x) {
-            if (accumulated.statistics(x, y).converged)
+            if (accumulated.isConverged(x, y))
                 continue;
             const Point2i pixel = pass.offset() + Vector2i(x, y);
             for (uint32_t index = range.first; index < range.end; ++index) {
@@ -75,6 +75,7 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
                 pass.put({position, value, index, surfaceAOVs ? &surface : nullptr,
                           importanceSampleFilter ? &pixel : nullptr, filterSign});
                 pass.countSample(x, y, value.getLuminance());
+                ++validSamples;
             }
         }
     }
@@ -108,7 +109,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     for (AOV aov : options.aovs)
         if (std::find(aovs.begin(), aovs.end(), aov) == aovs.end())
             aovs.push_back(aov);
-    Film film(outputSize, camera->getReconstructionFilter(), aovs);
+    Film film(outputSize, camera->getReconstructionFilter(), aovs,
+              prototype->getMaxTolerance() > 0.0f);
     const FilterSampler filterSampler(camera->getReconstructionFilter());
 
     scene.getIntegrator()->preprocess(&scene);
@@ -140,6 +142,7 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
 
         std::vector<std::unique_ptr<FilmBlock>> passBlocks(film.blockCount());
         std::atomic<bool> interrupted{false};
+        size_t passValid = 0, passInvalid = 0; // counted in the result once committed
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range<size_t>(0, film.blockCount(), 1),
@@ -147,14 +150,16 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
                     for (size_t index = blocks.begin(); index != blocks.end(); ++index) {
                         std::unique_ptr<FilmBlock> pass = film.makePassBlock(index);
                         std::unique_ptr<Sampler> sampler = prototype->clone();
-                        size_t invalid = 0;
+                        size_t valid = 0, invalid = 0;
                         if (!renderBlockPass(scene, *sampler, film, filterSampler,
-                                             film.block(index), *pass, range, options, invalid)) {
+                                             film.block(index), *pass, range, options, valid,
+                                             invalid)) {
                             interrupted = true;
                             return;
                         }
                         std::lock_guard<std::mutex> lock(mutex);
-                        result.invalidSamples += invalid;
+                        passValid += valid;
+                        passInvalid += invalid;
                         samplesDone += static_cast<size_t>(pass->size().prod()) * passSize;
                         progress.update(samplesDone);
                         passBlocks[index] = std::move(pass);
@@ -176,6 +181,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
         });
         sppDone += passSize;
         ++result.passes;
+        result.samplesTaken += passValid;
+        result.invalidSamples += passInvalid;
         if (options.passFinished)
             options.passFinished(film,
                                  {result.passes, sppDone, targetSpp, progress.elapsedSeconds()});
@@ -188,7 +195,6 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     result.samplesPerPixel = sppDone;
     result.complete =
         !result.cancelled && (sppDone == targetSpp || film.convergedPixels() == pixelCount);
-    result.samplesTaken = film.samplesTaken();
     result.convergedPixels = film.convergedPixels();
     result.seconds = progress.elapsedSeconds();
     result.layers = film.develop();
