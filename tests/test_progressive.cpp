@@ -211,6 +211,9 @@ TEST_CASE("The variance AOV estimates the variance of each pixel's mean", "[rend
     // the same quantity: within 10% (each has a relative error of about 2%).
     INFO("variance layer " << layerMean << ", spread across seeds " << spread);
     CHECK(layerMean == Approx(spread).epsilon(0.1));
+    // Control: a factor of 2 (the variance of one half-buffer's mean instead of the
+    // whole's, (A − B)²/2) is outside the tolerance.
+    CHECK_FALSE(2.0 * layerMean == Approx(spread).epsilon(0.1));
     CHECK(spread > 1e-3); // the scene is noisy: not 0 ≈ 0
 }
 
