@@ -34,6 +34,11 @@ std::string TempDir::write(const std::string &relativeName, const std::string &c
 
 ProcessResult runNori(const std::vector<std::string> &arguments,
                       const std::string &interruptAfter) {
+    return runCommand(NORI_EXECUTABLE, arguments, interruptAfter);
+}
+
+ProcessResult runCommand(const std::string &executable, const std::vector<std::string> &arguments,
+                         const std::string &interruptAfter) {
     int pipeEnds[2];
     if (pipe(pipeEnds) != 0)
         throw NoriException("pipe() failed");
@@ -46,7 +51,7 @@ ProcessResult runNori(const std::vector<std::string> &arguments,
         close(pipeEnds[0]);
         close(pipeEnds[1]);
         std::vector<char *> argv;
-        std::string program = NORI_EXECUTABLE;
+        std::string program = executable;
         argv.push_back(program.data());
         std::vector<std::string> copies(arguments);
         for (std::string &argument : copies)

@@ -37,6 +37,9 @@ struct ProcessResult {
 /// once that text has appeared in the output.
 ProcessResult runNori(const std::vector<std::string> &arguments,
                       const std::string &interruptAfter = "");
+/// The same for another program (its path).
+ProcessResult runCommand(const std::string &program, const std::vector<std::string> &arguments,
+                         const std::string &interruptAfter = "");
 
 /// The scene of an XML text (files relative to `directory`); throws when it is not one.
 std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &directory = ".");

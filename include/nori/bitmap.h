@@ -37,4 +37,12 @@ public:
 /// The mean over pixels and channels of (image − reference)²; the sizes must agree.
 double meanSquaredError(const Bitmap &image, const Bitmap &reference);
 
+/// The relative MSE, the mean over pixels and channels of (image − reference)² /
+/// (reference² + ε), which weighs dark and bright regions alike (ε = 0.01, as in
+/// Rousselle et al. 2011 and Bitterli et al. 2016); pixels where `mask` is false (when
+/// given, same size) are left out.
+double relativeMeanSquaredError(
+    const Bitmap &image, const Bitmap &reference,
+    const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> *mask = nullptr);
+
 } // namespace nori

@@ -1,5 +1,6 @@
 // The `nori` program: renders a scene file to EXR + PNG, or runs a test file.
 #include <nori/aov.h>
+#include <nori/denoiser.h>
 #include <nori/filesystem.h>
 #include <nori/parser.h>
 #include <nori/plugindoc.h>
@@ -48,6 +49,9 @@ Options:
   --aovs LIST        AOV layers to add to the EXR, e.g. albedo,normal (from albedo,
                      normal, depth, position, sampleCount, variance; a scene can ask
                      for them with <string name="aovs" .../> on its integrator)
+  --denoise          also write <file>_denoised.exr/.png, denoised by the built-in
+                     feature-guided denoiser (it records the albedo, normal, depth and
+                     variance layers it needs); the noisy image is written as always
   --pfm              also write <file>.pfm, <file>_albedo.pfm and <file>_normal.pfm,
                      the inputs of Intel Open Image Denoise's example tool
   --exposure E       brighten the PNG by 2^E (E in stops, may be negative); the EXR
@@ -93,6 +97,7 @@ struct Options {
     double timeBudget = 0.0;
     std::vector<AOV> aovs;
     bool pfm = false;
+    bool denoise = false;
     bool showProgress = true;
     float exposure = 0.0f;
     bool version = false;
@@ -174,6 +179,8 @@ Options parseCommandLine(int argc, char **argv) {
             options.aovs = parseAOVList(value(arg), arg);
         } else if (arg == "--pfm") {
             options.pfm = true;
+        } else if (arg == "--denoise") {
+            options.denoise = true;
         } else if (arg == "--spp") {
             options.samplesPerPixel = static_cast<size_t>(parsePositive(value(arg), arg));
         } else if (arg.rfind("-D", 0) == 0) {
@@ -252,6 +259,21 @@ void writeDenoiserInputs(const LayeredImage &layers, const std::string &stem) {
     layers.layer("normal").savePFM(stem + "_normal.pfm");
 }
 
+/// Denoises a finished render into <stem>_denoised.exr/.png, beside the noisy image.
+void writeDenoised(const LayeredImage &layers, const std::string &stem, int threads,
+                   float exposure) {
+    DenoiserSettings settings;
+    settings.threads = threads;
+    const auto start = std::chrono::steady_clock::now();
+    const Bitmap denoised = denoise(layers, settings);
+    denoised.saveEXR(stem + "_denoised.exr");
+    denoised.savePNG(stem + "_denoised.png", exposure);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fmt::print(stderr, "Denoised in {}; wrote {}_denoised.exr and {}_denoised.png\n",
+               formatDuration(seconds), stem, stem);
+}
+
 int renderToFiles(Scene &scene, const Options &options) {
     const Vector2i size = scene.getCamera()->getOutputSize();
     RenderOptions renderOptions;
@@ -261,11 +283,15 @@ int renderToFiles(Scene &scene, const Options &options) {
     renderOptions.cancel = &g_interrupted;
     renderOptions.timeBudget = options.timeBudget;
     renderOptions.aovs = options.aovs;
+    std::vector<AOV> needed;
     if (options.pfm)
-        for (AOV aov : {AOV::Albedo, AOV::Normal})
-            if (std::find(renderOptions.aovs.begin(), renderOptions.aovs.end(), aov) ==
-                renderOptions.aovs.end())
-                renderOptions.aovs.push_back(aov);
+        needed = {AOV::Albedo, AOV::Normal};
+    if (options.denoise)
+        needed.insert(needed.end(), denoiserAOVs().begin(), denoiserAOVs().end());
+    for (AOV aov : needed)
+        if (std::find(renderOptions.aovs.begin(), renderOptions.aovs.end(), aov) ==
+            renderOptions.aovs.end())
+            renderOptions.aovs.push_back(aov);
     fmt::print(stderr, "Rendering {} ({}x{}, {} spp{}, {} threads)\n", options.sceneFile, size.x(),
                size.y(),
                options.samplesPerPixel > 0 ? options.samplesPerPixel
@@ -284,7 +310,6 @@ int renderToFiles(Scene &scene, const Options &options) {
     result.image.savePNG(stem + ".png", options.exposure);
     if (options.pfm)
         writeDenoiserInputs(result.layers, stem);
-
     if (result.invalidSamples > 0)
         fmt::print(stderr,
                    "Warning: {} of {} samples had NaN, infinite or negative radiance and were "
@@ -320,6 +345,8 @@ int renderToFiles(Scene &scene, const Options &options) {
                formatDuration(result.seconds), result.samplesPerPixel,
                static_cast<double>(result.samplesTaken) / result.seconds * 1e-6, rays * 1e-6,
                rays / result.seconds * 1e-6, stem, stem);
+    if (options.denoise)
+        writeDenoised(result.layers, stem, renderOptions.threads, options.exposure);
     return 0;
 }
 

@@ -75,15 +75,43 @@ void Bitmap::savePNG(const std::string &filename, float exposure) const {
         throw NoriException("cannot write PNG image '{}'", filename);
 }
 
-double meanSquaredError(const Bitmap &image, const Bitmap &reference) {
+namespace {
+
+void checkSameSize(const Bitmap &image, const Bitmap &reference) {
     if (image.width() != reference.width() || image.height() != reference.height())
         throw NoriException("cannot compare a {}x{} image with a {}x{} one", image.width(),
                             image.height(), reference.width(), reference.height());
+}
+
+} // namespace
+
+double meanSquaredError(const Bitmap &image, const Bitmap &reference) {
+    checkSameSize(image, reference);
     double sum = 0.0;
     for (int y = 0; y < image.height(); ++y)
         for (int x = 0; x < image.width(); ++x)
             sum += (image(y, x) - reference(y, x)).cast<double>().square().sum();
     return sum / (3.0 * image.width() * image.height());
+}
+
+double relativeMeanSquaredError(
+    const Bitmap &image, const Bitmap &reference,
+    const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> *mask) {
+    checkSameSize(image, reference);
+    if (mask && (mask->rows() != image.rows() || mask->cols() != image.cols()))
+        throw NoriException("relativeMeanSquaredError: the mask's size differs from the image's");
+    constexpr double kEpsilon = 0.01;
+    double sum = 0.0;
+    size_t pixels = 0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+            if (mask && !(*mask)(y, x))
+                continue;
+            const Eigen::Array3d r = reference(y, x).cast<double>();
+            sum += ((image(y, x).cast<double>() - r).square() / (r.square() + kEpsilon)).sum();
+            ++pixels;
+        }
+    return pixels > 0 ? sum / (3.0 * static_cast<double>(pixels)) : 0.0;
 }
 
 } // namespace nori

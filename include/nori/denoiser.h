@@ -1,0 +1,34 @@
+// A feature-guided denoiser for rendered images: per pixel, a first-order regression of
+// the colour on the AOV features (albedo, normal, depth) and the screen position, over
+// a window weighted by non-local means whose bandwidth follows the half-buffer variance.
+// It needs the layers of denoiserAOVs() beside the beauty (nori --denoise records them).
+#pragma once
+
+#include <nori/aov.h>
+#include <nori/layeredimage.h>
+
+#include <vector>
+
+namespace nori {
+
+struct DenoiserSettings {
+    int searchRadius = 8; ///< the regression window of a pixel is (2r + 1)² pixels
+    int patchRadius = 3;  ///< non-local means compares (2f + 1)² patches
+    /// The candidate filters' non-local-means bandwidths k (larger: smoother); each
+    /// pixel takes the candidate of least estimated error (SURE).
+    std::vector<float> bandwidths{0.5f, 1.0f};
+    /// Ridge regularisation of the feature slopes, as a feature variance: slopes along
+    /// features that vary less than √ridge in a window are damped.
+    float ridge = 1e-3f;
+    int threads = 0; ///< 0: all cores
+};
+
+/// The layers denoise() needs besides the beauty.
+const std::vector<AOV> &denoiserAOVs();
+
+/// The denoised beauty of `image`, which must have the layers of denoiserAOVs() (a
+/// NoriException names a missing one). Non-finite inputs are treated as unknown; the
+/// result is finite and non-negative.
+Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings = {});
+
+} // namespace nori

@@ -1,0 +1,260 @@
+// The denoiser: error against converged references (tests/data/denoiser, rendered by
+// `nori-bench-denoiser --make-references`), texture edges, robustness to bad values, the
+// layers it needs, and the two programs that run it.
+#include "denoiser_scenes.h"
+#include "testutil.h"
+
+#include <nori/denoiser.h>
+#include <nori/render.h>
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+using namespace nori;
+using namespace nori::testing;
+using Catch::Matchers::Contains;
+
+namespace {
+
+using Mask = Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+RenderResult renderWithFeatures(Scene &scene, int threads = 0) {
+    RenderOptions options = quietOptions(threads);
+    options.aovs = denoiserAOVs();
+    return renderScene(scene, options);
+}
+
+RenderResult renderTestScene(const denoiserscenes::DenoiserScene &entry, int spp) {
+    Defines defines = entry.defines;
+    defines["spp"] = std::to_string(spp);
+    defines["seed"] = "1"; // the references used seed 0
+    auto scene = std::dynamic_pointer_cast<Scene>(
+        loadFromXML(std::string(NORI_SOURCE_DIR) + "/" + entry.file, LoadOptions(defines)));
+    REQUIRE(scene);
+    return renderWithFeatures(*scene);
+}
+
+struct Errors {
+    double noisy, denoised, blurred; ///< relMSE; blurred: a 5×5 box blur of the noisy image
+};
+
+Bitmap boxBlur(const Bitmap &image);
+
+/// relMSE of the noisy and the denoised render at `spp` against the committed reference.
+Errors errorsOn(const std::string &name, int spp) {
+    for (const auto &entry : denoiserscenes::scenes())
+        if (entry.name == name) {
+            const Bitmap reference = Bitmap::load(std::string(NORI_SOURCE_DIR) +
+                                                  "/tests/data/denoiser/" + name + ".exr");
+            const RenderResult noisy = renderTestScene(entry, spp);
+            const Bitmap denoised = denoise(noisy.layers);
+            return {relativeMeanSquaredError(noisy.image, reference),
+                    relativeMeanSquaredError(denoised, reference),
+                    relativeMeanSquaredError(boxBlur(noisy.image), reference)};
+        }
+    throw NoriException("no denoiser scene '{}'", name);
+}
+
+/// A 2×2 floor with a high-contrast checkerboard (albedo 0.8 and 0.1, 8 cells across)
+/// seen from above, lit by a spherical light off to the side, `spp` samples (seed).
+std::shared_ptr<Scene> checkerPlane(int spp, int seed) {
+    return loadScene(fmt::format(R"(<scene>
+        <integrator type="path_mis"/>
+        <sampler type="independent"><integer name="sampleCount" value="{}"/>
+            <integer name="seed" value="{}"/></sampler>
+        <camera type="perspective"><float name="fov" value="40"/>
+            <integer name="width" value="64"/><integer name="height" value="64"/>
+            <transform name="toWorld"><lookat origin="0, 2.5, 0.01" target="0, 0, 0" up="0, 1, 0"/></transform>
+        </camera>
+        <mesh type="obj"><string name="filename" value="floor.obj"/>
+            <transform name="toWorld"><scale value="2"/></transform>
+            <bsdf type="diffuse"><texture type="checkerboard" name="albedo">
+                <color name="color0" value="0.8"/><color name="color1" value="0.1"/>
+                <float name="scale" value="4"/></texture></bsdf></mesh>
+        <mesh type="sphere"><point name="center" value="1.5, 1.2, 0.5"/><float name="radius" value="0.4"/>
+            <emitter type="area"><color name="radiance" value="8, 8, 8"/></emitter></mesh>
+    </scene>)",
+                                 spp, seed),
+                     std::string(NORI_SOURCE_DIR) + "/scenes/textured/meshes");
+}
+
+/// Pixels next to a checker edge: some pixel of the 3×3 neighbourhood has another albedo.
+Mask checkerEdges(const Bitmap &albedo) {
+    Mask edges = Mask::Constant(albedo.rows(), albedo.cols(), false);
+    for (int y = 1; y + 1 < albedo.height(); ++y)
+        for (int x = 1; x + 1 < albedo.width(); ++x)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx)
+                    if (std::abs(albedo(y + dy, x + dx).x() - albedo(y, x).x()) > 0.05f)
+                        edges(y, x) = true;
+    return edges;
+}
+
+/// A plain 5×5 box blur: the control that must fail the edge test.
+Bitmap boxBlur(const Bitmap &image) {
+    Bitmap blurred(Vector2i(image.width(), image.height()));
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+            Color3f sum(0.0f);
+            int count = 0;
+            for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx)
+                    if (y + dy >= 0 && y + dy < image.height() && x + dx >= 0 &&
+                        x + dx < image.width()) {
+                        sum += image(y + dy, x + dx);
+                        ++count;
+                    }
+            blurred(y, x) = sum / static_cast<float>(count);
+        }
+    return blurred;
+}
+
+bool finiteAndNonNegative(const Bitmap &image) {
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+            if (!image(y, x).isFinite().all() || (image(y, x) < 0.0f).any())
+                return false;
+    return true;
+}
+
+} // namespace
+
+// The issue's goal: relMSE of the denoised 16-spp image at most 1/8 of the noisy one's.
+// Measured with seed 1: 11.9x (nori-bench-denoiser prints it with 4 and 64 spp).
+TEST_CASE("Denoising the Cornell box at 16 spp cuts the relMSE eightfold", "[denoiser]") {
+    const auto [noisy, denoised, blurred] = errorsOn("cbox", 16);
+    INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
+    CHECK(denoised * 8.0 <= noisy);
+    // Control: a plain 5×5 blur also lowers the noise, but not eightfold.
+    CHECK(blurred * 8.0 > noisy);
+}
+
+// NOT the issue's goal of 8x, which this denoiser misses on these two scenes (measured
+// 4.8x on the textured scene and 1.4x on Veach's plates at 16 spp, seed 1): the
+// highlights of smooth plates and the glossy sphere have no feature that explains them.
+// These checks hold the measured gains so that a regression shows; the goal stays open.
+TEST_CASE("Denoising the textured and Veach scenes at 16 spp lowers the relMSE", "[denoiser]") {
+    {
+        const auto [noisy, denoised, blurred] = errorsOn("textured", 16);
+        INFO("textured: relMSE noisy " << noisy << ", denoised " << denoised);
+        CHECK(denoised * 4.0 <= noisy);
+    }
+    {
+        const auto [noisy, denoised, blurred] = errorsOn("veach", 16);
+        INFO("veach: relMSE noisy " << noisy << ", denoised " << denoised);
+        CHECK(denoised * 1.2 <= noisy);
+    }
+}
+
+TEST_CASE("The denoiser keeps the edges of a checkerboard", "[denoiser]") {
+    // At 1024 spp the reference's own relMSE is ~64x below the noisy image's.
+    const RenderResult reference = renderWithFeatures(*checkerPlane(1024, 0));
+    const RenderResult noisy = renderWithFeatures(*checkerPlane(16, 1));
+    const Bitmap denoised = denoise(noisy.layers);
+    const Mask everywhere = Mask::Constant(64, 64, true);
+    const Mask edges = checkerEdges(reference.layers.layer("albedo"));
+    REQUIRE(edges.count() > 300); // 8 cells across 64 pixels: most rows cross 7 edges
+
+    const double noisyAll = relativeMeanSquaredError(noisy.image, reference.image, &everywhere);
+    const double denoisedAll = relativeMeanSquaredError(denoised, reference.image, &everywhere);
+    const double noisyEdges = relativeMeanSquaredError(noisy.image, reference.image, &edges);
+    const double denoisedEdges = relativeMeanSquaredError(denoised, reference.image, &edges);
+    INFO("relMSE over the plane: noisy " << noisyAll << ", denoised " << denoisedAll);
+    INFO("relMSE on the edges: noisy " << noisyEdges << ", denoised " << denoisedEdges);
+    CHECK(denoisedAll <= noisyAll);
+    CHECK(denoisedEdges <= noisyEdges);
+
+    // Control: a plain blur, which also lowers the noise, fails on the edges.
+    const double blurredEdges =
+        relativeMeanSquaredError(boxBlur(noisy.image), reference.image, &edges);
+    INFO("relMSE on the edges of a 5x5 box blur: " << blurredEdges);
+    CHECK(blurredEdges > noisyEdges);
+}
+
+TEST_CASE("The denoiser never outputs NaN, infinities or negative values", "[denoiser]") {
+    RenderResult noisy = renderWithFeatures(*checkerPlane(4, 1));
+    LayeredImage layers(noisy.layers.size());
+    Bitmap beauty = noisy.layers.layer(""), albedo = noisy.layers.layer("albedo");
+    Bitmap variance = noisy.layers.layer("variance");
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    beauty(10, 10) = Color3f(nan, 1.0f, 1.0f);
+    beauty(20, 30) = Color3f(inf);
+    beauty(40, 5) = Color3f(-5.0f);
+    beauty(50, 50) = Color3f(1e30f); // finite but overflowing when squared
+    albedo(12, 12) = Color3f(nan);
+    variance(30, 30) = Color3f(inf);
+    variance(31, 30) = Color3f(-1.0f);
+    layers.addLayer("", {"R", "G", "B"}, beauty);
+    layers.addLayer("albedo", {"R", "G", "B"}, albedo);
+    layers.addLayer("variance", {"R", "G", "B"}, variance);
+    layers.addLayer("normal", {"X", "Y", "Z"}, noisy.layers.layer("normal"));
+    layers.addChannel("depth.Z", noisy.layers.channels().at("depth.Z"));
+    CHECK(finiteAndNonNegative(denoise(layers)));
+
+    // All black, all zero variance: stays black.
+    LayeredImage zeros(layers.size());
+    for (const auto &[name, channel] : layers.channels())
+        zeros.addChannel(name, LayeredImage::Channel::Zero(channel.rows(), channel.cols()));
+    const Bitmap black = denoise(zeros);
+    CHECK(finiteAndNonNegative(black));
+    CHECK(meanSquaredError(black, Bitmap(zeros.size())) == 0.0);
+}
+
+TEST_CASE("The denoiser names a missing layer", "[denoiser]") {
+    const RenderResult noisy = renderWithFeatures(*checkerPlane(1, 1));
+    for (const std::string missing : {"albedo", "normal", "depth", "variance"}) {
+        LayeredImage layers(noisy.layers.size());
+        for (const auto &[name, channel] : noisy.layers.channels())
+            if (name.rfind(missing + ".", 0) != 0)
+                layers.addChannel(name, channel);
+        try {
+            denoise(layers);
+            FAIL("no error without " << missing);
+        } catch (const NoriException &error) {
+            CHECK_THAT(error.what(), Contains("'" + missing + "'"));
+        }
+    }
+}
+
+TEST_CASE("The denoiser gives the same image on 1 and 2 threads", "[denoiser]") {
+    const RenderResult noisy = renderWithFeatures(*checkerPlane(4, 1));
+    DenoiserSettings one, two;
+    one.threads = 1;
+    two.threads = 2;
+    CHECK(meanSquaredError(denoise(noisy.layers, one), denoise(noisy.layers, two)) == 0.0);
+}
+
+TEST_CASE("nori --denoise and nori-imgtool denoise write the denoised image", "[denoiser][cli]") {
+    TempDir dir;
+    const std::string scene = std::string(NORI_SOURCE_DIR) + "/scenes/cbox/cbox.xml";
+    const std::string stem = (dir.path() / "box").string();
+    const auto rendered =
+        runNori({"-D", "size=48", "-D", "spp=4", "--denoise", "--no-progress", "-o", stem, scene});
+    INFO(rendered.output);
+    REQUIRE(rendered.exitCode == 0);
+    CHECK_THAT(rendered.output, Contains("wrote " + stem + "_denoised.exr"));
+    for (const char *suffix : {".exr", ".png", "_denoised.exr", "_denoised.png"})
+        CHECK(std::filesystem::exists(stem + suffix));
+    // The noisy EXR keeps the layers, so the image tool can denoise it again, alike.
+    const auto again = runCommand(
+        IMGTOOL_EXECUTABLE, {"denoise", stem + ".exr", "-o", (dir.path() / "again.exr").string()});
+    INFO(again.output);
+    REQUIRE(again.exitCode == 0);
+    const Bitmap first = Bitmap::load(stem + "_denoised.exr");
+    const Bitmap second = Bitmap::load((dir.path() / "again.exr").string());
+    CHECK(meanSquaredError(first, second) == 0.0);
+    CHECK(runCommand(IMGTOOL_EXECUTABLE, {"denoise", stem + ".exr"}).exitCode == 0);
+    CHECK(std::filesystem::exists(stem + "_denoised.png"));
+
+    // A render without the layers: an error naming the file and the first missing layer.
+    const auto plain =
+        runNori({"-D", "size=16", "-D", "spp=1", "--no-progress", "-o", stem + "_plain", scene});
+    REQUIRE(plain.exitCode == 0);
+    const auto refused = runCommand(IMGTOOL_EXECUTABLE, {"denoise", stem + "_plain.exr"});
+    CHECK(refused.exitCode == 1);
+    CHECK_THAT(refused.output, Contains(stem + "_plain.exr") && Contains("'albedo'"));
+    CHECK(runCommand(IMGTOOL_EXECUTABLE, {"denoise", stem + "_none.exr"}).exitCode == 1);
+    CHECK(runCommand(IMGTOOL_EXECUTABLE, {"sharpen", stem + ".exr"}).exitCode == 1);
+}
