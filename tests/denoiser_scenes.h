@@ -3,6 +3,7 @@
 #pragma once
 
 #include <nori/parser.h>
+#include <nori/scene.h>
 
 #include <string>
 #include <vector>
@@ -28,6 +29,21 @@ inline const std::vector<DenoiserScene> &scenes() {
         {"textured", "scenes/textured/textured.xml", {{"width", "160"}, {"height", "90"}}},
     };
     return list;
+}
+
+/// Loads a scene of the list from the repository at `sourceDir`, at `spp` samples per
+/// pixel with `seed`; `overrides` win over the entry's own defines (a larger size).
+inline std::shared_ptr<Scene> load(const DenoiserScene &entry, const std::string &sourceDir,
+                                   int spp, int seed, Defines overrides = {}) {
+    for (const auto &[name, value] : entry.defines)
+        overrides.emplace(name, value);
+    overrides["spp"] = std::to_string(spp);
+    overrides["seed"] = std::to_string(seed);
+    auto scene = std::dynamic_pointer_cast<Scene>(
+        loadFromXML(sourceDir + "/" + entry.file, LoadOptions(overrides)));
+    if (!scene)
+        throw NoriException("{}: not a scene", entry.file);
+    return scene;
 }
 
 } // namespace nori::denoiserscenes

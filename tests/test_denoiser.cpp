@@ -26,13 +26,8 @@ RenderResult renderWithFeatures(Scene &scene, int threads = 0) {
 }
 
 RenderResult renderTestScene(const denoiserscenes::DenoiserScene &entry, int spp) {
-    Defines defines = entry.defines;
-    defines["spp"] = std::to_string(spp);
-    defines["seed"] = "1"; // the references used seed 0
-    auto scene = std::dynamic_pointer_cast<Scene>(
-        loadFromXML(std::string(NORI_SOURCE_DIR) + "/" + entry.file, LoadOptions(defines)));
-    REQUIRE(scene);
-    return renderWithFeatures(*scene);
+    // Seed 1: the references used seed 0.
+    return renderWithFeatures(*denoiserscenes::load(entry, NORI_SOURCE_DIR, spp, 1));
 }
 
 struct Errors {

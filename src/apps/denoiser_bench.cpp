@@ -25,13 +25,8 @@ namespace {
 const std::string kSourceDir = NORI_SOURCE_DIR;
 
 RenderResult render(const DenoiserScene &entry, int spp, int seed, int threads,
-                    Defines defines = {}) {
-    for (const auto &[name, value] : entry.defines)
-        defines.emplace(name, value);
-    defines["spp"] = std::to_string(spp);
-    defines["seed"] = std::to_string(seed);
-    auto scene = std::dynamic_pointer_cast<Scene>(
-        loadFromXML(kSourceDir + "/" + entry.file, LoadOptions(defines)));
+                    const Defines &overrides = {}) {
+    auto scene = load(entry, kSourceDir, spp, seed, overrides);
     RenderOptions options;
     options.showProgress = false;
     options.threads = threads;
