@@ -2,6 +2,8 @@
 // file system says into a clear NoriException, never a std::filesystem_error.
 #pragma once
 
+#include <cstdint>
+#include <set>
 #include <string>
 
 namespace nori {
@@ -30,5 +32,25 @@ void writeBinaryFile(const std::string &path, const std::string &bytes, const st
 /// Writes `text` to `path` unless the file already holds exactly that (so generated
 /// files keep their time stamps); throws NoriException when it cannot.
 void writeFileIfChanged(const std::string &path, const std::string &text);
+
+/// Records, while it lives, a digest (hashBytes) of every file read through
+/// readBinaryFile or readTextFile, by any thread: what loading a scene read (the XML file,
+/// its includes, meshes, textures, lens files), for a hash that tells whether two
+/// processes rendered the same scene. One recorder at a time.
+class ReadFileRecorder {
+public:
+    ReadFileRecorder();
+    ~ReadFileRecorder();
+    ReadFileRecorder(const ReadFileRecorder &) = delete;
+    ReadFileRecorder &operator=(const ReadFileRecorder &) = delete;
+
+    /// The digests of the files read so far, sorted (so independent of the order in which
+    /// parallel loads happened, and of where the files are).
+    std::set<uint64_t> digests() const;
+
+private:
+    friend void recordFileRead(const std::string &bytes);
+    std::set<uint64_t> m_digests;
+};
 
 } // namespace nori

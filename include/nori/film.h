@@ -38,6 +38,17 @@ struct PixelStatistics {
     bool withinTolerance(float maxTolerance) const;
 };
 
+/// The variance of a pixel's mean from its two half estimates (even and odd sample
+/// indices), given the filtered sums (w·L, w) of all its samples and of the even ones;
+/// 0 when either half has no weight (one sample or none).
+Color3f halfBufferVariance(const Color4f &totalSum, const Color4f &evenSum);
+
+/// The channels a part of a split render adds to its image for the merge (see
+/// renderpart.h): the filter weight of every pixel, and the even samples' half-buffer.
+constexpr const char *kWeightChannel = "weight.W";
+constexpr const char *kEvenHalfLayer = "evenHalf";
+constexpr const char *kEvenHalfWeightChannel = "evenHalf.W";
+
 class FilmBlock {
 public:
     /// `pixelStatistics`: whether to keep PixelStatistics (adaptive sampling, the
@@ -104,12 +115,16 @@ public:
 
     /// The image: the beauty as R, G, B and one layer per AOV. Blocks are merged in
     /// index order, so every pixel sums the same values in the same order every time.
-    /// Not thread-safe (it reuses one merge buffer).
-    LayeredImage develop() const;
+    /// Not thread-safe (it reuses one merge buffer). `withWeights`: also the channels a
+    /// part of a split render needs to be merged (kWeightChannel; with the variance layer,
+    /// the kEvenHalfLayer and its kEvenHalfWeightChannel).
+    LayeredImage develop(bool withWeights = false) const;
 
 private:
     /// One layer of every block, merged into m_merged.
     const ImageBlock &merge(int layer) const;
+    /// The interior's filter weights (the w of each pixel's sums).
+    LayeredImage::Channel filterWeights(const ImageBlock &block) const;
 
     Vector2i m_size;
     const ReconstructionFilter *m_filter;

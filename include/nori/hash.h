@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
+#include <string_view>
 
 namespace nori {
 
@@ -19,6 +21,24 @@ template <typename... Values> constexpr uint64_t hashValues(Values... values) {
     uint64_t hash = 0x9e3779b97f4a7c15ULL; // 2^64 / golden ratio: any odd start will do
     ((hash = mixBits(hash ^ static_cast<uint64_t>(values))), ...);
     return hash;
+}
+
+/// A 64-bit digest of a byte string, 8 bytes at a time through mixBits (with the length
+/// folded in, so a trailing zero byte changes it). Not cryptographic: it tells files apart
+/// (a render split over machines checks they read the same scene), it does not resist
+/// an adversary.
+inline uint64_t hashBytes(std::string_view bytes) {
+    uint64_t hash = hashValues(bytes.size());
+    size_t offset = 0;
+    for (; offset + 8 <= bytes.size(); offset += 8) {
+        uint64_t word;
+        std::memcpy(&word, bytes.data() + offset, 8);
+        hash = mixBits(hash ^ word);
+    }
+    uint64_t tail = 0;
+    if (offset < bytes.size()) // (memcpy from an empty view's nullptr is undefined)
+        std::memcpy(&tail, bytes.data() + offset, bytes.size() - offset);
+    return mixBits(hash ^ tail);
 }
 
 } // namespace nori

@@ -26,7 +26,13 @@ struct PassReport {
 struct RenderOptions {
     int threads = 0;            ///< worker threads; 0 = all cores
     size_t samplesPerPixel = 0; ///< 0 = the scene sampler's own count
-    bool showProgress = true;   ///< progress bar on stderr
+    /// The first sample index of every pixel: the render takes indices [firstSample,
+    /// firstSample + samplesPerPixel), a slice of a larger render (see renderpart.h).
+    uint32_t firstSample = 0;
+    /// Also develop the filter weights a part of a split render is merged with
+    /// (Film::develop's withWeights).
+    bool mergeWeights = false;
+    bool showProgress = true; ///< progress bar on stderr
     /// When it becomes true, no new sample is started and the passes finished so far are
     /// returned (what SIGINT does): the pass under way is dropped.
     const std::atomic<bool> *cancel = nullptr;

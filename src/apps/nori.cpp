@@ -8,6 +8,7 @@
 #include <nori/program.h>
 #include <nori/progress.h>
 #include <nori/render.h>
+#include <nori/renderpart.h>
 #include <nori/scene.h>
 #include <nori/strutil.h>
 #include <nori/test.h>
@@ -17,6 +18,8 @@
 #include <csignal>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <set>
 #include <signal.h>
 
 namespace fs = std::filesystem;
@@ -35,6 +38,7 @@ extern "C" void onInterrupt(int) {
 }
 
 const char *kUsage = R"(Usage: nori [options] <file.xml>
+       nori merge PART.exr... -o OUT [--allow-missing] [--denoise] [--exposure E]
 
 Renders a scene file to <file>.exr (linear) and <file>.png (sRGB) next to it, or runs a
 test file (root element <test>) and exits 0 when it passes, 1 when it fails.
@@ -56,6 +60,9 @@ Options:
                      the inputs of Intel Open Image Denoise's example tool
   --exposure E       brighten the PNG by 2^E (E in stops, may be negative); the EXR
                      keeps the rendered values
+  --part K/N         render part K of N of the image's samples (the K-th of N slices of
+                     every pixel's sample indices) into <file>_partKofN.exr, with the
+                     weights and header `nori merge` needs (see "Split renders" below)
   --camera-convention epfl|eth
                      which way image x runs for cameras that do not say: epfl (x
                      mirrored, Nori 2's default) or eth (the ETH course's Nori)
@@ -82,6 +89,13 @@ The image is rendered in passes over the whole frame (1, 1, 2, 4, ... samples pe
 pixel, at most 64 per pass). On Ctrl-C the passes finished so far are written to
 <file>_partial.exr/.png, a whole frame at fewer samples, and nori exits with status
 130; a second Ctrl-C ends it at once.
+
+Split renders: `nori scene.xml --part K/N` for K = 1..N (separate processes or machines,
+e.g. the Slurm job array of scripts/slurm/render.sh), then `nori merge parts*.exr -o OUT`
+writes OUT.exr and OUT.png: the image of the whole render, its AOV layers merged too.
+The merge refuses parts of another scene (a hash of every file the scene reads, and of
+the -D definitions), of another spp, resolution or filter, a part given twice, and
+missing parts unless --allow-missing (which merges those given and names the others).
 )";
 
 /// More threads than this is a mistake, not a machine (TBB fails far above it).
@@ -109,6 +123,11 @@ struct Options {
     int soakSeeds = 0;
     PluginTestOptions pluginTest;
     bool help = false;
+    std::optional<PartSpec> part;
+    bool merge = false; ///< `nori merge`: merge `parts` into `output`
+    std::vector<std::string> parts;
+    bool allowMissing = false;
+    std::vector<std::string> renderOnlyFlags; ///< given flags that merge does not take
 };
 
 int parsePositive(const std::string &text, const std::string &flag) {
@@ -116,6 +135,13 @@ int parsePositive(const std::string &text, const std::string &flag) {
     if (value <= 0)
         throw NoriException("{} must be a positive integer, got '{}'", flag, text);
     return value;
+}
+
+float parseExposure(const std::string &text, const std::string &flag) {
+    const float exposure = toFloat(text, flag);
+    if (!std::isfinite(exposure) || std::abs(exposure) > 64.0f)
+        throw NoriException("{} must lie in [-64, 64] stops, got {}", flag, exposure);
+    return exposure;
 }
 
 Options parseCommandLine(int argc, char **argv) {
@@ -127,6 +153,10 @@ Options parseCommandLine(int argc, char **argv) {
                 throw NoriException("option {} needs a value", flag);
             return argv[++i];
         };
+        static const std::set<std::string> kRenderOnly = {
+            "--spp", "--time", "--aovs", "--pfm", "--part", "--camera-convention", "-D"};
+        if (kRenderOnly.count(arg) || arg.rfind("-D", 0) == 0)
+            options.renderOnlyFlags.push_back(arg);
         if (arg == "-h" || arg == "--help") {
             options.help = true;
         } else if (arg == "--list-plugins") {
@@ -152,10 +182,7 @@ Options parseCommandLine(int argc, char **argv) {
         } else if (arg == "--version") {
             options.version = true;
         } else if (arg == "--exposure") {
-            options.exposure = toFloat(value(arg), arg);
-            if (!std::isfinite(options.exposure) || std::abs(options.exposure) > 64.0f)
-                throw NoriException("--exposure must lie in [-64, 64] stops, got {}",
-                                    options.exposure);
+            options.exposure = parseExposure(value(arg), arg);
         } else if (arg == "--no-progress") {
             options.showProgress = false;
         } else if (arg == "-o" || arg == "--output") {
@@ -181,6 +208,8 @@ Options parseCommandLine(int argc, char **argv) {
             options.pfm = true;
         } else if (arg == "--denoise") {
             options.denoise = true;
+        } else if (arg == "--part") {
+            options.part = parsePartSpec(value(arg), arg);
         } else if (arg == "--spp") {
             options.samplesPerPixel = static_cast<size_t>(parsePositive(value(arg), arg));
         } else if (arg.rfind("-D", 0) == 0) {
@@ -189,8 +218,14 @@ Options parseCommandLine(int argc, char **argv) {
             if (equals == std::string::npos || equals == 0)
                 throw NoriException("-D expects name=value, got '{}'", definition);
             options.defines[definition.substr(0, equals)] = definition.substr(equals + 1);
+        } else if (arg == "--allow-missing") {
+            options.allowMissing = true;
         } else if (!arg.empty() && arg[0] == '-') {
             throw NoriException("unknown option '{}' (see nori --help)", arg);
+        } else if (arg == "merge" && !options.merge && options.sceneFile.empty()) {
+            options.merge = true;
+        } else if (options.merge) {
+            options.parts.push_back(arg);
         } else if (options.sceneFile.empty()) {
             options.sceneFile = arg;
         } else {
@@ -242,12 +277,15 @@ int soakPlugins(const std::vector<std::string> &names, int seeds, PluginTestOpti
     return bugs == 0 ? 0 : 1;
 }
 
-/// The output path without extension: -o's argument, or the scene file's path.
+/// The output path without extension: -o's argument, or the scene file's path (with
+/// _partKofN for a part).
 std::string outputStem(const Options &options) {
     fs::path path(options.output.empty() ? options.sceneFile : options.output);
     const std::string extension = toLower(path.extension().string());
     if (options.output.empty() || extension == ".exr" || extension == ".png")
         path.replace_extension();
+    if (options.output.empty() && options.part)
+        path += fmt::format("_part{}of{}", options.part->index, options.part->count);
     return path.string();
 }
 
@@ -274,7 +312,7 @@ void writeDenoised(const LayeredImage &layers, const std::string &stem, int thre
                formatDuration(seconds), stem, stem);
 }
 
-int renderToFiles(Scene &scene, const Options &options) {
+int renderToFiles(Scene &scene, const Options &options, const std::string &hash) {
     const Vector2i size = scene.getCamera()->getOutputSize();
     RenderOptions renderOptions;
     renderOptions.threads = options.threads > 0 ? options.threads : defaultThreadCount();
@@ -300,9 +338,20 @@ int renderToFiles(Scene &scene, const Options &options) {
                                         : std::string(),
                renderOptions.threads);
 
+    if (options.part) {
+        const size_t total = options.samplesPerPixel > 0 ? options.samplesPerPixel
+                                                         : scene.getSampler()->getSampleCount();
+        const SampleSlice slice = partSamples(*options.part, total);
+        fmt::print(stderr,
+                   "Part {} of {}: sample indices {} to {} of every pixel (scene hash {})\n",
+                   options.part->index, options.part->count, slice.first,
+                   slice.first + slice.count - 1, hash);
+    }
     fmt::print(stderr, "Scene: {}\n", scene.statisticsSummary());
     const uint64_t raysBefore = scene.rayCount();
-    RenderResult result = renderScene(scene, renderOptions);
+    RenderResult result = options.part ? renderPart(scene, renderOptions, *options.part, hash,
+                                                    fs::path(options.sceneFile).filename().string())
+                                       : renderScene(scene, renderOptions);
     const double rays = static_cast<double>(scene.rayCount() - raysBefore);
 
     const std::string stem = outputStem(options) + (result.cancelled ? "_partial" : "");
@@ -350,6 +399,29 @@ int renderToFiles(Scene &scene, const Options &options) {
     return 0;
 }
 
+/// `nori merge PART.exr... -o OUT`: the merged image, denoised too with --denoise.
+int mergeCommand(const Options &options) {
+    if (options.output.empty())
+        throw NoriException("merge: no output given (-o OUT writes OUT.exr and OUT.png)");
+    const std::string stem = outputStem(options);
+    const MergeResult merged = mergeParts(options.parts, options.allowMissing);
+    merged.image.saveEXR(stem + ".exr");
+    merged.image.layer("").savePNG(stem + ".png", options.exposure);
+    if (!merged.missing.empty())
+        fmt::print(stderr,
+                   "Warning: merged {} of {} spp; missing part{} {} of {} (--allow-missing)\n",
+                   merged.samplesPerPixel, merged.totalSamplesPerPixel,
+                   merged.missing.size() > 1 ? "s" : "", fmt::join(merged.missing, ", "),
+                   merged.partCount);
+    fmt::print(stderr, "Merged {} parts ({} spp); wrote {}.exr and {}.png\n", options.parts.size(),
+               merged.samplesPerPixel, stem, stem);
+    if (options.denoise)
+        writeDenoised(merged.image, stem,
+                      options.threads > 0 ? options.threads : defaultThreadCount(),
+                      options.exposure);
+    return 0;
+}
+
 int run(int argc, char **argv) {
     NoriObjectFactory::checkRegistry();
     Options options = parseCommandLine(argc, argv);
@@ -393,16 +465,34 @@ int run(int argc, char **argv) {
         writeFileIfChanged(options.markdownFile, pluginsMarkdown());
         return 0;
     }
+    if (options.merge) {
+        if (!options.renderOnlyFlags.empty())
+            throw NoriException("merge: {} applies to rendering, not to merging parts",
+                                options.renderOnlyFlags.front());
+        return mergeCommand(options);
+    }
+    if (options.allowMissing)
+        throw NoriException("--allow-missing applies to `nori merge`, not to rendering");
     if (options.sceneFile.empty()) {
         fmt::print(stderr, "{}", kUsage);
         return 1;
     }
+    if (options.part && options.denoise)
+        throw NoriException("--denoise denoises a whole render: give it to `nori merge` instead "
+                            "of to a part");
 
     LoadOptions loadOptions(options.defines);
     loadOptions.cameraConvention = options.cameraConvention;
     std::vector<std::string> unusedDefines;
     loadOptions.unusedDefines = &unusedDefines;
+    std::optional<ReadFileRecorder> readFiles; // for the scene hash of a split render
+    if (options.part)
+        readFiles.emplace();
     std::shared_ptr<NoriObject> root = loadFromXML(options.sceneFile, loadOptions);
+    const std::string hash =
+        readFiles ? sceneHash(readFiles->digests(), options.defines, options.cameraConvention)
+                  : std::string();
+    readFiles.reset();
     for (const std::string &name : unusedDefines)
         fmt::print(stderr, "Warning: -D {}={} is not used: {} has no ${}\n", name,
                    options.defines.at(name), options.sceneFile, name);
@@ -424,7 +514,7 @@ int run(int argc, char **argv) {
         // A second Ctrl-C kills the process the usual way.
         action.sa_flags = SA_RESETHAND;
         sigaction(SIGINT, &action, nullptr);
-        return renderToFiles(*scene, options);
+        return renderToFiles(*scene, options, hash);
     }
     throw NoriException("{}: the root element must be a <scene> or a <test>, not a {}",
                         options.sceneFile, NoriObject::classTypeName(root->getClassType()));

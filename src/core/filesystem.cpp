@@ -1,15 +1,51 @@
 #include <nori/common.h>
 #include <nori/filesystem.h>
+#include <nori/hash.h>
 
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 namespace fs = std::filesystem;
 
 namespace nori {
+
+namespace {
+std::mutex g_recorderMutex;
+ReadFileRecorder *g_recorder = nullptr; ///< guarded by g_recorderMutex
+} // namespace
+
+ReadFileRecorder::ReadFileRecorder() {
+    std::lock_guard<std::mutex> lock(g_recorderMutex);
+    if (g_recorder)
+        throw NoriException("internal error: a ReadFileRecorder is already recording");
+    g_recorder = this;
+}
+
+ReadFileRecorder::~ReadFileRecorder() {
+    std::lock_guard<std::mutex> lock(g_recorderMutex);
+    g_recorder = nullptr;
+}
+
+std::set<uint64_t> ReadFileRecorder::digests() const {
+    std::lock_guard<std::mutex> lock(g_recorderMutex);
+    return m_digests;
+}
+
+void recordFileRead(const std::string &bytes) {
+    {
+        std::lock_guard<std::mutex> lock(g_recorderMutex);
+        if (!g_recorder)
+            return; // no digest to compute
+    }
+    const uint64_t digest = hashBytes(bytes); // outside the lock: parallel loads hash at once
+    std::lock_guard<std::mutex> lock(g_recorderMutex);
+    if (g_recorder)
+        g_recorder->m_digests.insert(digest);
+}
 
 void requireRegularFile(const std::string &path, const std::string &what) {
     std::error_code error;
@@ -40,7 +76,9 @@ std::string readBinaryFile(const std::string &path, const std::string &what) {
     buffer << stream.rdbuf();
     if (stream.bad())
         throw NoriException("cannot read {} '{}': read error", what, path);
-    return buffer.str();
+    std::string bytes = buffer.str();
+    recordFileRead(bytes);
+    return bytes;
 }
 
 std::string readTextFile(const std::string &path, const std::string &what) {

@@ -13,6 +13,16 @@ bool PixelStatistics::withinTolerance(float maxTolerance) const {
     return 1.96 * std::sqrt(variance / n) <= maxTolerance * mean;
 }
 
+Color3f halfBufferVariance(const Color4f &totalSum, const Color4f &evenSum) {
+    const Color4f oddSum = totalSum - evenSum;
+    if (evenSum.w() <= 0.0f || oddSum.w() <= 0.0f)
+        return Color3f(0.0f);
+    // The mean of two independent half estimates A and B has variance (Var A + Var B)/4,
+    // and E[(A − B)²] = Var A + Var B: so (A − B)²/4 per pixel.
+    const Color3f difference = evenSum.divideByFilterWeight() - oddSum.divideByFilterWeight();
+    return difference * difference * 0.25f;
+}
+
 FilmBlock::FilmBlock(const Point2i &offset, const Vector2i &size,
                      const ReconstructionFilter *filter, const std::vector<AOV> &aovs,
                      bool pixelStatistics)
@@ -116,6 +126,15 @@ size_t Film::convergedPixels() const {
     return total;
 }
 
+LayeredImage::Channel Film::filterWeights(const ImageBlock &block) const {
+    const int border = block.getBorderSize();
+    LayeredImage::Channel weights(m_size.y(), m_size.x());
+    for (int y = 0; y < m_size.y(); ++y)
+        for (int x = 0; x < m_size.x(); ++x)
+            weights(y, x) = block(y + border, x + border).w();
+    return weights;
+}
+
 const ImageBlock &Film::merge(int layer) const {
     m_merged.clear();
     for (const auto &block : m_blocks)
@@ -123,9 +142,17 @@ const ImageBlock &Film::merge(int layer) const {
     return m_merged;
 }
 
-LayeredImage Film::develop() const {
+LayeredImage Film::develop(bool withWeights) const {
     LayeredImage result(m_size);
     result.addLayer("", {"R", "G", "B"}, merge(FilmBlock::kBeauty).toBitmap());
+    if (withWeights) {
+        result.addChannel(kWeightChannel, filterWeights(merge(FilmBlock::kBeauty)));
+        if (m_blocks.front()->m_layers[FilmBlock::kEvenHalf]) {
+            const ImageBlock &even = merge(FilmBlock::kEvenHalf);
+            result.addLayer(kEvenHalfLayer, {"R", "G", "B"}, even.toBitmap());
+            result.addChannel(kEvenHalfWeightChannel, filterWeights(even));
+        }
+    }
     for (AOV aov : m_aovs) {
         Bitmap values(m_size);
         switch (aov) {
@@ -149,22 +176,13 @@ LayeredImage Film::develop() const {
                             static_cast<float>(block->m_statistics[block->index(x, y)].count));
             break;
         case AOV::Variance: {
-            // The mean of two independent half estimates A and B has variance
-            // (Var A + Var B)/4, and E[(A − B)²] = Var A + Var B: so (A − B)²/4 per pixel.
             const ImageBlock even = merge(FilmBlock::kEvenHalf);
             const ImageBlock &beauty = merge(FilmBlock::kBeauty);
             const int border = beauty.getBorderSize();
             for (int y = 0; y < m_size.y(); ++y)
-                for (int x = 0; x < m_size.x(); ++x) {
-                    const Color4f &total = beauty(y + border, x + border);
-                    const Color4f &evenSum = even(y + border, x + border);
-                    const Color4f oddSum = total - evenSum;
-                    if (evenSum.w() <= 0.0f || oddSum.w() <= 0.0f)
-                        continue; // one sample or none: no variance estimate (0)
-                    const Color3f difference =
-                        evenSum.divideByFilterWeight() - oddSum.divideByFilterWeight();
-                    values(y, x) = difference * difference * 0.25f;
-                }
+                for (int x = 0; x < m_size.x(); ++x)
+                    values(y, x) = halfBufferVariance(beauty(y + border, x + border),
+                                                      even(y + border, x + border));
             break;
         }
         }

@@ -103,7 +103,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     std::unique_ptr<Sampler> prototype = scene.getSampler()->clone();
     if (options.samplesPerPixel > 0)
         prototype->setSampleCount(options.samplesPerPixel);
-    const size_t targetSpp = std::min<size_t>(prototype->getSampleCount(), UINT32_MAX);
+    const size_t targetSpp =
+        std::min<size_t>(prototype->getSampleCount(), UINT32_MAX - options.firstSample);
 
     std::vector<AOV> aovs = scene.getIntegrator()->aovs();
     for (AOV aov : options.aovs)
@@ -137,8 +138,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
                 break;
             passSize = std::min(passSize, static_cast<size_t>(sppLeft));
         }
-        const SampleRange range{static_cast<uint32_t>(sppDone),
-                                static_cast<uint32_t>(sppDone + passSize)};
+        const SampleRange range{static_cast<uint32_t>(options.firstSample + sppDone),
+                                static_cast<uint32_t>(options.firstSample + sppDone + passSize)};
 
         std::vector<std::unique_ptr<FilmBlock>> passBlocks(film.blockCount());
         std::atomic<bool> interrupted{false};
@@ -197,7 +198,7 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
         !result.cancelled && (sppDone == targetSpp || film.convergedPixels() == pixelCount);
     result.convergedPixels = film.convergedPixels();
     result.seconds = progress.elapsedSeconds();
-    result.layers = film.develop();
+    result.layers = film.develop(options.mergeWeights);
     result.image = result.layers.layer("");
     return result;
 }
