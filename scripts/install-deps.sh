@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages needed to build and render, skipping those already
 # installed (so it is quick to run again). Run as root or with sudo.
 #   scripts/install-deps.sh          what building and rendering need
-#   scripts/install-deps.sh --test   also the test tools: Catch2, clang with libFuzzer
+#   scripts/install-deps.sh --test   also the test tools: Catch2, clang with libFuzzer, Slurm
 set -euo pipefail
 
 packages=(
@@ -22,6 +22,7 @@ if [ "${1:-}" = "--test" ]; then
         clang               # the fuzz targets' compiler ...
         libclang-rt-14-dev  # ... and its libFuzzer, ASan and UBSan runtimes
         util-linux          # prlimit, for the out-of-memory case of the bad-input corpus
+        slurm-wlm munge     # the split-render test's one-node Slurm cluster
     )
 elif [ -n "${1:-}" ]; then
     echo "usage: $0 [--test]" >&2

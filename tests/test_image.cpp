@@ -160,3 +160,51 @@ TEST_CASE("Image loading errors name the file", "[image]") {
     CHECK_THAT(errorOf([&] { Bitmap::load(png); }),
                Contains("PNG image '") && Contains("corrupt.png' is invalid"));
 }
+
+TEST_CASE("nori-imgtool diff prints the error metrics and exits 1 above the tolerance",
+          "[image][imgtool]") {
+    nori::testing::TempDir dir;
+    Bitmap reference(Eigen::Vector2i(4, 2)), image(Eigen::Vector2i(4, 2));
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 4; ++x)
+            reference(y, x) = image(y, x) = Color3f(0.5f + 0.1f * x, 0.25f, 2.0f);
+    image(1, 2) += Color3f(0.0f, 0.5f, 0.0f); // one channel of one pixel off by 0.5
+    const std::string a = (dir.path() / "a.exr").string(), b = (dir.path() / "b.exr").string();
+    image.saveEXR(a);
+    reference.saveEXR(b);
+    const std::string errorPng = (dir.path() / "error.png").string();
+
+    const auto same =
+        nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", b, b, "--tolerance", "0"});
+    CHECK(same.exitCode == 0);
+    CHECK_THAT(same.output, Catch::Contains("rmse 0\n") && Catch::Contains("differing 0\n"));
+
+    const auto differ = nori::testing::runCommand(
+        IMGTOOL_EXECUTABLE,
+        {"diff", a, b, "--out", errorPng, "--tolerance", "0.01", "--metric", "maxabs"});
+    INFO(differ.output);
+    CHECK(differ.exitCode == 1);
+    // MSE = 0.25 / 24 values; relMSE = 0.25 / (0.25² + 0.01) / 24; PSNR against peak 2.
+    CHECK_THAT(differ.output,
+               Catch::Contains(fmt::format("rmse {:.9g}\n", std::sqrt(0.25 / 24.0))));
+    CHECK_THAT(differ.output,
+               Catch::Contains(fmt::format("relmse {:.9g}\n", 0.25 / 0.0725 / 24.0)));
+    CHECK_THAT(differ.output, Catch::Contains("maxabs 0.5\n") && Catch::Contains("differing 1\n") &&
+                                  Catch::Contains("over tolerance: maxabs 0.5 > 0.01"));
+    CHECK_THAT(differ.output,
+               Catch::Contains(fmt::format("psnr {:.6g}\n", 10.0 * std::log10(4.0 * 24.0 / 0.25))));
+    CHECK(Bitmap::load(errorPng).rows() == 2);
+    CHECK(nori::testing::runCommand(IMGTOOL_EXECUTABLE,
+                                    {"diff", a, b, "--tolerance", "0.5", "--metric", "maxabs"})
+              .exitCode == 0);
+
+    Bitmap wide(Eigen::Vector2i(5, 2));
+    const std::string c = (dir.path() / "c.exr").string();
+    wide.saveEXR(c);
+    const auto mismatch = nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", a, c});
+    CHECK(mismatch.exitCode == 1);
+    CHECK_THAT(mismatch.output, Catch::Contains("is 4x2 but") && Catch::Contains("is 5x2"));
+    CHECK_THAT(
+        nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", a, b, "--layer", "albedo"}).output,
+        Catch::Contains("albedo"));
+}

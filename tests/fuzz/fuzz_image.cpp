@@ -1,7 +1,9 @@
 // libFuzzer target of the image decoders (PNG, JPEG, HDR, EXR with every channel and
-// its attributes, PFM; src/core/imagefile.cpp):
+// its attributes, PFM; src/core/imagefile.cpp) and of the header of a split render's
+// part (src/render/renderpart.cpp):
 // any input must decode or end in a NoriException, within 2^20 pixels.
 #include <nori/imagefile.h>
+#include <nori/renderpart.h>
 
 #include <cstdint>
 #include <string>
@@ -12,6 +14,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                               std::size_t(1) << 20);
     } catch (const nori::NoriException &) {
         // A clear error is the expected outcome of malformed input.
+    }
+    try {
+        const nori::LayeredImage image = nori::decodeLayeredEXR(
+            std::string(reinterpret_cast<const char *>(data), size), "fuzz", std::size_t(1) << 20);
+        nori::readPartHeader(image, "fuzz");
+    } catch (const nori::NoriException &) {
     }
     return 0;
 }

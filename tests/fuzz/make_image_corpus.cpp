@@ -1,9 +1,11 @@
 // Writes the seed corpus of the image fuzz target (tests/fuzz/corpus/image): tiny PNG,
 // JPEG, HDR (run-length coded and flat), EXR (float, half, and our multi-layer renders
-// with attributes) and PFM files, made with the writers the project links
+// with attributes, a part of a split render) and PFM files, made with the writers the project links
 // (stb_image_write, tinyexr) and its own (LayeredImage, Bitmap::savePFM).
 //   nori-make-image-corpus tests/fuzz/corpus/image
+#include <nori/film.h>
 #include <nori/layeredimage.h>
+#include <nori/renderpart.h>
 
 #include <stb_image_write.h>
 #include <tinyexr.h>
@@ -45,8 +47,22 @@ int main(int argc, char **argv) {
     layered.addLayer("normal", {"X", "Y", "Z"}, colour);
     layered.addLayer("depth", {"Z"}, colour);
     layered.attributes["nori/spp"] = "64";
+    // A part of a split render: a weight channel and the header nori merge reads.
+    nori::LayeredImage part;
+    part.addLayer("", {"R", "G", "B"}, colour);
+    part.addChannel(nori::kWeightChannel, nori::LayeredImage::Channel::Constant(3, 5, 2.0f));
+    nori::PartHeader header;
+    header.part = {2, 3};
+    header.sceneHash = "0123456789abcdef";
+    header.resolution = Eigen::Vector2i(5, 3);
+    header.totalSamplesPerPixel = 9;
+    header.samples = nori::partSamples(header.part, 9);
+    header.filter = "GaussianFilter[radius=2, stddev=0.5]";
+    header.scene = "scene.xml";
+    nori::writePartHeader(header, part);
     try {
         layered.saveEXR(d + "layers.exr");
+        part.saveEXR(d + "part.exr");
         colour.savePFM(d + "rgb.pfm");
     } catch (const nori::NoriException &) {
         ok = false;
