@@ -31,16 +31,32 @@ Commands:
       relmse or maxabs; default relmse) exceeds T.
 )";
 
+/// Reads a command's arguments in order; an option's value is the argument after it.
+class ArgumentReader {
+public:
+    ArgumentReader(const std::vector<std::string> &arguments, std::string command)
+        : m_arguments(arguments), m_command(std::move(command)) {}
+    bool more() const { return m_next < m_arguments.size(); }
+    const std::string &next() { return m_arguments[m_next++]; }
+    /// The value after option `flag`; throws naming it when there is none.
+    const std::string &valueOf(const std::string &flag) {
+        if (!more())
+            throw NoriException("{}: option {} needs a value", m_command, flag);
+        return next();
+    }
+
+private:
+    const std::vector<std::string> &m_arguments;
+    std::string m_command;
+    size_t m_next = 0;
+};
+
 int denoiseCommand(const std::vector<std::string> &arguments) {
     std::string input, output;
     DenoiserSettings settings;
-    for (size_t i = 0; i < arguments.size(); ++i) {
-        const std::string &arg = arguments[i];
-        auto value = [&]() -> const std::string & {
-            if (i + 1 >= arguments.size())
-                throw NoriException("denoise: option {} needs a value", arg);
-            return arguments[++i];
-        };
+    for (ArgumentReader reader(arguments, "denoise"); reader.more();) {
+        const std::string arg = reader.next();
+        const auto value = [&] { return reader.valueOf(arg); };
         if (arg == "-o" || arg == "--output") {
             output = value();
         } else if (arg == "-t" || arg == "--threads") {
@@ -104,13 +120,9 @@ int diffCommand(const std::vector<std::string> &arguments) {
     std::vector<std::string> files;
     std::string layer, errorImage, metric = "relmse";
     double tolerance = -1.0;
-    for (size_t i = 0; i < arguments.size(); ++i) {
-        const std::string &arg = arguments[i];
-        auto value = [&]() -> const std::string & {
-            if (i + 1 >= arguments.size())
-                throw NoriException("diff: option {} needs a value", arg);
-            return arguments[++i];
-        };
+    for (ArgumentReader reader(arguments, "diff"); reader.more();) {
+        const std::string arg = reader.next();
+        const auto value = [&] { return reader.valueOf(arg); };
         if (arg == "--layer") {
             layer = value();
         } else if (arg == "--out") {

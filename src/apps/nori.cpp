@@ -153,8 +153,8 @@ Options parseCommandLine(int argc, char **argv) {
                 throw NoriException("option {} needs a value", flag);
             return argv[++i];
         };
-        static const std::set<std::string> kRenderOnly = {
-            "--spp", "--time", "--aovs", "--pfm", "--part", "--camera-convention", "-D"};
+        static const std::set<std::string> kRenderOnly = {"--spp", "--time", "--aovs",
+                                                          "--pfm", "--part", "--camera-convention"};
         if (kRenderOnly.count(arg) || arg.rfind("-D", 0) == 0)
             options.renderOnlyFlags.push_back(arg);
         if (arg == "-h" || arg == "--help") {

@@ -144,10 +144,11 @@ const ImageBlock &Film::merge(int layer) const {
 
 LayeredImage Film::develop(bool withWeights) const {
     LayeredImage result(m_size);
-    result.addLayer("", {"R", "G", "B"}, merge(FilmBlock::kBeauty).toBitmap());
+    const ImageBlock &beauty = merge(FilmBlock::kBeauty);
+    result.addLayer("", {"R", "G", "B"}, beauty.toBitmap());
     if (withWeights) {
-        result.addChannel(kWeightChannel, filterWeights(merge(FilmBlock::kBeauty)));
-        if (m_blocks.front()->m_layers[FilmBlock::kEvenHalf]) {
+        result.addChannel(kWeightChannel, filterWeights(beauty));
+        if (std::find(m_aovs.begin(), m_aovs.end(), AOV::Variance) != m_aovs.end()) {
             const ImageBlock &even = merge(FilmBlock::kEvenHalf);
             result.addLayer(kEvenHalfLayer, {"R", "G", "B"}, even.toBitmap());
             result.addChannel(kEvenHalfWeightChannel, filterWeights(even));
