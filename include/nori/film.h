@@ -78,7 +78,7 @@ public:
 
 private:
     friend class Film;
-    size_t index(int x, int y) const { return static_cast<size_t>(y * m_size.x() + x); }
+    size_t index(int x, int y) const { return static_cast<size_t>(y) * m_size.x() + x; }
 
     /// The filtered sums the film keeps: the beauty, the even samples' half of it, and
     /// the surface AOVs (depth as grey).
