@@ -69,7 +69,6 @@ out=${out:-${scene%.xml}}
 mkdir -p "$(dirname "$out")"
 out=$(absolute "$out")
 outdir=${out}_parts
-mkdir -p "$outdir"
 tasks=${tasks:-1-$parts}
 
 # The part numbers of a Slurm array list ("1-4", "2,5", "1-7:2"), for cleaning and --local.
@@ -82,12 +81,19 @@ expand_tasks() {
         for ((k = first; k <= last; k += step)); do echo "$k"; done
     done
 }
+if ! [[ $tasks =~ ^[0-9]+(-[0-9]+(:[1-9][0-9]*)?)?(,[0-9]+(-[0-9]+(:[1-9][0-9]*)?)?)*$ ]]; then
+    echo "render.sh: --tasks takes a Slurm array list (3, 2,5 or 1-7:2), got '$tasks'" >&2
+    exit 2
+fi
 task_list=$(expand_tasks "$tasks")
 for k in $task_list; do
     if ((k < 1 || k > parts)); then
         echo "render.sh: task $k is not a part of 1..$parts" >&2
         exit 2
     fi
+done
+mkdir -p "$outdir"
+for k in $task_list; do
     rm -f "$outdir/part-$k.exr" "$outdir/part-$k.png" # no stale part of an earlier run
 done
 
