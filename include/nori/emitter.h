@@ -60,6 +60,11 @@ struct SceneBoundingSphere {
     /// Sets lRec.p to a point beyond the sphere from lRec.ref along lRec.wi, with the normal
     /// facing back and the shadow ray to it.
     void placeBeyond(EmitterQueryRecord &lRec) const;
+    /// A photon ray of light arriving from the direction `toLight`: its origin is a point
+    /// of the disk of the sphere facing toLight (uniform by `sample`), one radius out,
+    /// so that it crosses the whole scene; the direction is −toLight. Returns the disk's
+    /// area, the photon's weight per unit of radiance over direction density.
+    float photonRayFrom(const Vector3f &toLight, const Point2f &sample, Ray3f &ray) const;
 };
 
 class Emitter : public NoriObject {
@@ -84,6 +89,16 @@ public:
     virtual bool requiresShape() const { return false; }
     /// Total emitted power (flux); the scene picks lights in proportion to its luminance.
     virtual Color3f getPower() const = 0;
+
+    /// Samples a photon leaving the light (photon mapping): sets `ray` to its origin and
+    /// direction and returns its power weight Le·|cos θ|/(pdf_A·pdf_ω) (for a delta light
+    /// I(ω)/pdf_ω), whose mean over the samples is getPower(). `positionSample` picks
+    /// the point (on the surface, or on the disk a light at infinity crosses the scene's
+    /// bounding sphere through), `directionSample` the direction. Every light of the
+    /// project emits photons; a plugin that does not override this cannot be used by the
+    /// photon mappers, which then stop with an error naming it.
+    virtual Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
+                                 const Point2f &directionSample) const;
 
     /// Tells the light the bounds of the scene it lights, before getPower() is asked:
     /// lights at infinity (directional, environment) need the scene's bounding sphere.

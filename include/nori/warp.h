@@ -9,6 +9,9 @@ namespace nori {
 
 class Warp {
 public:
+    /// The unit vector with cos θ = cosTheta and azimuth φ about +z.
+    static Vector3f sphericalDirection(float cosTheta, float phi);
+
     /// Identity on [0,1)²; density 1.
     static Point2f squareToUniformSquare(const Point2f &sample) { return sample; }
     static float squareToUniformSquarePdf(const Point2f &p);

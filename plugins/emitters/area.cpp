@@ -4,7 +4,7 @@
  * is nested in: the side its vertex normals point to (as Nori 2 and pbrt decide, even
  * when the triangles wind the other way), else the side of its winding's normal.
  * Points are sampled by the shape: by area for meshes, through the subtended cone for
- * spheres.
+ * spheres. Photons leave a point uniform by area in a cosine-weighted direction.
  *
  * Parameters:
  *   radiance  color/texture  (required)  emitted radiance
@@ -16,7 +16,10 @@
  *       <emitter type="area"><color name="radiance" value="2"/></emitter></mesh>
  */
 #include <nori/emitter.h>
+#include <nori/frame.h>
+#include <nori/rayerror.h>
 #include <nori/shape.h>
+#include <nori/warp.h>
 
 namespace nori {
 
@@ -56,6 +59,28 @@ public:
         if (lRec.n.dot(lRec.wi) >= 0.0f)
             return 0.0f;
         return m_shape->pdfFromReference(lRec.ref, lRec.p, lRec.n);
+    }
+
+    // A point uniform by area (pdf_A = 1/A for meshes) and a cosine-weighted direction
+    // about its normal (pdf_ω = cos θ/π): the weight Le·cos θ/(pdf_A·pdf_ω) = π·Le/pdf_A.
+    Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
+                         const Point2f &directionSample) const override {
+        const ShapeSample point = m_shape->sampleSurface(positionSample);
+        if (point.pdf <= 0.0f)
+            return Color3f(0.0f);
+        const Vector3f direction =
+            Frame(point.n).toWorld(Warp::squareToCosineHemisphere(directionSample));
+        EmitterQueryRecord lRec;
+        lRec.p = point.p;
+        lRec.n = point.n;
+        lRec.uv = m_shape->textureUV(point.uv);
+        // The sampled point carries the rounding of interpolating the shape's vertices:
+        // bound it by the shape's extent (PBR 4th ed. §6.8.5) and leave past it.
+        const BoundingBox3f &box = m_shape->getBoundingBox();
+        const Vector3f pError = gammaBound(16) * box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs());
+        ray =
+            Ray3f(offsetRayOrigin(point.p, pError, point.n, direction), direction, 0.0f, kInfinity);
+        return m_radiance->eval(lRec).max(0.0f) * (kPi / point.pdf);
     }
 
     // A Lambertian emitter radiates π·L per unit area; a texture by its uv average (exact

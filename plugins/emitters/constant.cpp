@@ -33,6 +33,15 @@ public:
         return m_radiance / lRec.pdf;
     }
 
+    // A direction uniform over the sphere, then a point of the bounding sphere's disk
+    // facing it: L·πr²/pdf_ω.
+    Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
+                         const Point2f &directionSample) const override {
+        const Vector3f toLight = Warp::squareToUniformSphere(directionSample);
+        return m_radiance * (m_scene.photonRayFrom(toLight, positionSample, ray) /
+                             Warp::squareToUniformSpherePdf(toLight));
+    }
+
     Color3f eval(const EmitterQueryRecord &) const override { return m_radiance; }
     float pdf(const EmitterQueryRecord &lRec) const override {
         return Warp::squareToUniformSpherePdf(lRec.wi);

@@ -40,6 +40,13 @@ public:
         return m_irradiance;
     }
 
+    // Photons cross the disk of the scene's bounding sphere facing the light, uniformly:
+    // each carries E·πr².
+    Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
+                         const Point2f &) const override {
+        return m_irradiance * m_scene.photonRayFrom(m_toLight, positionSample, ray);
+    }
+
     Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }
     float pdf(const EmitterQueryRecord &) const override { return 0.0f; }
     bool isDelta() const override { return true; }

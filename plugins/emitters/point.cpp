@@ -11,6 +11,7 @@
  *       <color name="power" value="100, 100, 100"/></emitter>
  */
 #include <nori/emitter.h>
+#include <nori/warp.h>
 
 namespace nori {
 
@@ -25,6 +26,13 @@ public:
         // The irradiance facing the light: I/d².
         const float distanceSquared = aimAtPoint(lRec, m_position);
         return distanceSquared > 0.0f ? Color3f(m_intensity / distanceSquared) : Color3f(0.0f);
+    }
+
+    // Directions uniform over the sphere (pdf 1/4π): every photon carries 4π·I.
+    Color3f samplePhoton(Ray3f &ray, const Point2f &,
+                         const Point2f &directionSample) const override {
+        ray = Ray3f(m_position, Warp::squareToUniformSphere(directionSample), 0.0f, kInfinity);
+        return m_intensity * (4.0f * kPi);
     }
 
     Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }

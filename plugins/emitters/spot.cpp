@@ -24,6 +24,7 @@
 #include <nori/frame.h>
 #include <nori/proplist.h>
 #include <nori/transform.h>
+#include <nori/warp.h>
 
 namespace nori {
 
@@ -67,6 +68,16 @@ public:
         return m_intensity * (falloff(m_axis.dot(-lRec.wi)) / distanceSquared);
     }
 
+    // Directions drawn in proportion to the intensity (sampleFalloff): every photon
+    // carries the power, I·falloff/pdf_ω = I·solidAngle.
+    Color3f samplePhoton(Ray3f &ray, const Point2f &,
+                         const Point2f &directionSample) const override {
+        const float cosTheta = sampleFalloff(directionSample.x());
+        const Vector3f local = Warp::sphericalDirection(cosTheta, 2.0f * kPi * directionSample.y());
+        ray = Ray3f(m_position, Frame(m_axis).toWorld(local), 0.0f, kInfinity);
+        return getPower();
+    }
+
     Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }
     float pdf(const EmitterQueryRecord &) const override { return 0.0f; }
     bool isDelta() const override { return true; }
@@ -89,6 +100,24 @@ private:
             return 0.0f;
         const float t = (cosTheta - m_cosCutoff) / (m_cosBeam - m_cosCutoff);
         return t * t * (3.0f - 2.0f * t);
+    }
+
+    /// cos θ with density ∝ falloff(cos θ) on [cos cutoff, 1], from u in [0, 1): the beam
+    /// (uniform in cos θ) with probability (1 − cos beam)/(solidAngle/2π), else the ring,
+    /// where t = (cos θ − cos cutoff)/(cos beam − cos cutoff) has density 6t² − 4t³
+    /// (smoothstep normalised) and CDF 2t³ − t⁴, inverted by bisection (monotonic).
+    float sampleFalloff(float u) const {
+        const float beam = 1.0f - m_cosBeam, ring = 0.5f * (m_cosBeam - m_cosCutoff);
+        const float beamProbability = beam / (beam + ring);
+        if (u < beamProbability || ring <= 0.0f)
+            return 1.0f - std::min(u / beamProbability, 1.0f) * beam;
+        const float v = (u - beamProbability) / (1.0f - beamProbability);
+        float low = 0.0f, high = 1.0f;
+        for (int i = 0; i < 24; ++i) { // 2⁻²⁴: float precision
+            const float t = 0.5f * (low + high);
+            (2.0f * t * t * t - t * t * t * t < v ? low : high) = t;
+        }
+        return m_cosCutoff + 0.5f * (low + high) * (m_cosBeam - m_cosCutoff);
     }
 
     /// ∫ falloff dω = 2π [(1 − cos beam) + (cos beam − cos cutoff)/2]: smoothstep(t) +

@@ -1,5 +1,7 @@
 #include <nori/emitter.h>
+#include <nori/frame.h>
 #include <nori/proplist.h>
+#include <nori/warp.h>
 
 namespace nori {
 
@@ -17,6 +19,21 @@ void SceneBoundingSphere::placeBeyond(EmitterQueryRecord &lRec) const {
     lRec.p = lRec.ref + distance * lRec.wi;
     lRec.n = Normal3f(-lRec.wi);
     lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance);
+}
+
+float SceneBoundingSphere::photonRayFrom(const Vector3f &toLight, const Point2f &sample,
+                                         Ray3f &ray) const {
+    const Frame frame(toLight);
+    const Point2f disk = radius * Warp::squareToUniformDiskConcentric(sample);
+    const Point3f origin = center + radius * toLight + disk.x() * frame.s + disk.y() * frame.t;
+    ray = Ray3f(origin, -toLight, 0.0f, kInfinity);
+    return diskArea();
+}
+
+Color3f Emitter::samplePhoton(Ray3f &, const Point2f &, const Point2f &) const {
+    throw NoriException("{} cannot emit photons (its plugin does not override "
+                        "Emitter::samplePhoton), so the photon mappers cannot use it",
+                        toString());
 }
 
 float Emitter::aimAtPoint(EmitterQueryRecord &lRec, const Point3f &position) {

@@ -4,12 +4,6 @@ namespace nori {
 
 namespace {
 
-/// A unit vector from cos θ and φ about +z.
-Vector3f sphericalDirection(float cosTheta, float phi) {
-    const float sinTheta = safeSqrt(1.0f - cosTheta * cosTheta);
-    return Vector3f(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
-}
-
 /// Whether v is (up to round-off) a unit vector; densities are 0 off the sphere.
 bool isUnit(const Vector3f &v) {
     return std::abs(v.squaredNorm() - 1.0f) < 1e-3f;
@@ -21,6 +15,11 @@ float tent1D(float u) {
 }
 
 } // namespace
+
+Vector3f Warp::sphericalDirection(float cosTheta, float phi) {
+    const float sinTheta = safeSqrt(1.0f - cosTheta * cosTheta);
+    return Vector3f(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+}
 
 float Warp::squareToUniformSquarePdf(const Point2f &p) {
     return (p.array() >= 0.0f).all() && (p.array() <= 1.0f).all() ? 1.0f : 0.0f;
