@@ -198,6 +198,20 @@ TEST_CASE("nori-imgtool diff prints the error metrics and exits 1 above the tole
                                     {"diff", a, b, "--tolerance", "0.5", "--metric", "maxabs"})
               .exitCode == 0);
 
+    // --crop: the differing pixel (2, 1) alone, and a region without it.
+    const auto cropped =
+        nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", a, b, "--crop", "2,1,1,1"});
+    CHECK_THAT(cropped.output,
+               Catch::Contains(fmt::format("rmse {:.9g}\n", std::sqrt(0.25 / 3.0))) &&
+                   Catch::Contains("pixels 1\n"));
+    CHECK_THAT(
+        nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", a, b, "--crop", "0,0,4,1"}).output,
+        Catch::Contains("rmse 0\n") && Catch::Contains("pixels 4\n"));
+    const auto outside =
+        nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", a, b, "--crop", "3,0,2,2"});
+    CHECK(outside.exitCode == 1);
+    CHECK_THAT(outside.output, Catch::Contains("--crop 3,0,2,2 does not fit in the 4x2 images"));
+
     Bitmap wide(Eigen::Vector2i(5, 2));
     const std::string c = (dir.path() / "c.exr").string();
     wide.saveEXR(c);

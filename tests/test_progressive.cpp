@@ -18,6 +18,7 @@
 
 using namespace nori;
 using Catch::Contains;
+using nori::testing::identicalImages;
 using nori::testing::loadScene;
 using nori::testing::quietOptions;
 using nori::testing::TempDir;
@@ -54,16 +55,6 @@ float maxRelativeDifference(const Bitmap &a, const Bitmap &b) {
     return largest;
 }
 
-bool identical(const Bitmap &a, const Bitmap &b) {
-    if (a.width() != b.width() || a.height() != b.height())
-        return false;
-    for (int y = 0; y < a.height(); ++y)
-        for (int x = 0; x < a.width(); ++x)
-            if (!(a(y, x) == b(y, x)).all())
-                return false;
-    return true;
-}
-
 } // namespace
 
 TEST_CASE("Every sampler renders the same image with one and two threads, AOVs too",
@@ -77,7 +68,7 @@ TEST_CASE("Every sampler renders the same image with one and two threads, AOVs t
         CHECK(a.passes == 4); // 1, 1, 2, 2 spp
         for (const std::string layer : {"", "albedo", "normal", "depth", "variance"}) {
             CAPTURE(layer);
-            CHECK(identical(a.layers.layer(layer), b.layers.layer(layer)));
+            CHECK(identicalImages(a.layers.layer(layer), b.layers.layer(layer)));
         }
     }
 }
@@ -255,18 +246,18 @@ TEST_CASE("Multi-layer EXR and PFM files round-trip", "[image][aov]") {
     image.saveEXR(exr);
     const LayeredImage read = LayeredImage::loadEXR(exr);
     CHECK(read.layerNames() == std::vector<std::string>{"", "albedo", "depth"});
-    CHECK(identical(read.layer(""), colour));
-    CHECK(identical(read.layer("albedo"), colour));
+    CHECK(identicalImages(read.layer(""), colour));
+    CHECK(identicalImages(read.layer("albedo"), colour));
     CHECK((read.layer("depth")(2, 4) == Color3f(colour(2, 4).r())).all());
     CHECK(read.attributes.at("nori/scene") == "cbox.xml");
     // A texture load takes the beauty's R, G, B.
-    CHECK(identical(Bitmap::load(exr), colour));
+    CHECK(identicalImages(Bitmap::load(exr), colour));
     CHECK_THAT(nori::testing::errorOf([&] { read.layer("normal"); }),
                Contains("no layer 'normal' (its layers: (beauty), albedo, depth)"));
 
     const std::string pfm = (dir.path() / "image.pfm").string();
     colour.savePFM(pfm);
-    CHECK(identical(Bitmap::load(pfm), colour));
+    CHECK(identicalImages(Bitmap::load(pfm), colour));
     // Truncated or malformed PFM files are errors naming the file.
     const std::string bytes = readBinaryFile(pfm, "test");
     CHECK_THAT(nori::testing::errorOf(

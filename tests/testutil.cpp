@@ -106,6 +106,16 @@ std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &dire
     return scene;
 }
 
+bool identicalImages(const Bitmap &a, const Bitmap &b) {
+    if (a.width() != b.width() || a.height() != b.height())
+        return false;
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x)
+            if (!(a(y, x) == b(y, x)).all())
+                return false;
+    return true;
+}
+
 RenderOptions quietOptions(int threads) {
     RenderOptions options;
     options.threads = threads;

@@ -66,6 +66,9 @@ struct PixelTTest {
 };
 PixelTTest tTestPixel(Scene &scene, double reference, size_t samples);
 
+/// Whether two images have the same size and bit-identical pixels.
+bool identicalImages(const Bitmap &a, const Bitmap &b);
+
 /// The distance from point p to the line of the ray.
 inline float distanceToRay(const Point3f &p, const Ray3f &ray) {
     const Vector3f d = ray.d.normalized();

@@ -20,6 +20,21 @@ public:
     /// The radiance arriving at ray.o from direction -ray.d.
     virtual Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const = 0;
 
+    /// Integrators that work in passes (the progressive photon mapper traces a photon map
+    /// per pass): the render loop calls beginPass before rendering sample indices
+    /// [firstSample, endSample) of every pixel and endPass once that pass is complete (not
+    /// for a pass a cancel drops). During a pass, Li may update state of the pixel it is
+    /// called for (Sampler::pixel()): a pixel is rendered by one thread at a time.
+    virtual void beginPass(const Scene *scene, uint32_t firstSample, uint32_t endSample) {
+        (void)scene, (void)firstSample, (void)endSample;
+    }
+    virtual void endPass(const Scene *scene) { (void)scene; }
+    /// The most samples per pixel a pass of the render loop may take (0: no limit).
+    virtual size_t maxSamplesPerPass() const { return 0; }
+    /// What the integrator did besides tracing camera paths, for `nori` to print after
+    /// the render ("photon map: ..."); empty for most.
+    virtual std::string renderSummary() const { return {}; }
+
     /// The AOV layers the scene asks for: <string name="aovs" value="albedo,normal"/>,
     /// which every integrator accepts (the render loop computes them, see aov.h).
     const std::vector<AOV> &aovs() const { return m_aovs; }

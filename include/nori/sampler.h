@@ -28,6 +28,10 @@ public:
         m_dimension = 0;
         startSample();
     }
+    /// The pixel and sample index of the current sample (an integrator that keeps
+    /// statistics per pixel, like the progressive photon mapper, reads them).
+    const Point2i &pixel() const { return m_pixel; }
+    uint32_t sampleIndex() const { return m_sampleIndex; }
     /// Moves on to the next sample of the current pixel.
     void advance() { generate(m_pixel, m_sampleIndex + 1); }
     /// The next dimension of the current sample, in [0, 1).

@@ -21,11 +21,13 @@ Commands:
       variance (nori --denoise, or nori --aovs albedo,normal,depth,variance), and writes
       OUT.exr and OUT.png (default OUT: IN_denoised beside IN). IN is left as it is.
 
-  diff IMAGE REFERENCE [--layer NAME] [--tolerance T] [--metric M] [--out ERROR.png]
+  diff IMAGE REFERENCE [--layer NAME] [--crop X,Y,W,H] [--tolerance T] [--metric M]
+       [--out ERROR.png]
       Compares IMAGE with REFERENCE (EXR, PFM, HDR, PNG, JPEG; of one size) and prints
       one `key value` per line: rmse, relmse (Σ(a−b)²/(b²+0.01), per channel), maxabs,
       psnr (dB, the peak being REFERENCE's largest value or 1), pixels, differing (pixels
-      not equal). --layer compares an AOV layer of two EXRs (default: the beauty).
+      not equal). --layer compares an AOV layer of two EXRs (default: the beauty);
+      --crop only the W×H pixels from column X, row Y (a region of interest).
       --out writes the per-pixel absolute error in false colour (black, red, yellow,
       white up to the largest error). With --tolerance, exits 1 when the metric M (rmse,
       relmse or maxabs; default relmse) exceeds T.
@@ -109,6 +111,21 @@ Bitmap loadForDiff(const std::string &file, const std::string &layer) {
     return Bitmap::load(file);
 }
 
+/// The W×H pixels of `image` from column X, row Y, given as "X,Y,W,H".
+Bitmap cropForDiff(const Bitmap &image, const std::string &crop) {
+    const std::vector<std::string> fields = tokenize(crop, ",");
+    if (fields.size() != 4)
+        throw NoriException("diff: --crop expects X,Y,W,H, got '{}'", crop);
+    const int x = toInt(fields[0], "--crop X"), y = toInt(fields[1], "--crop Y"),
+              w = toInt(fields[2], "--crop W"), h = toInt(fields[3], "--crop H");
+    if (x < 0 || y < 0 || w <= 0 || h <= 0 || x > image.width() - w || y > image.height() - h)
+        throw NoriException("diff: --crop {} does not fit in the {}x{} images", crop, image.width(),
+                            image.height());
+    Bitmap region(Eigen::Vector2i(w, h));
+    region.Bitmap::Base::operator=(image.block(y, x, h, w));
+    return region;
+}
+
 /// The false-colour ramp black → red → yellow → white over t in [0, 1].
 Color3f falseColor(float t) {
     t = std::clamp(t, 0.0f, 1.0f) * 3.0f;
@@ -118,13 +135,15 @@ Color3f falseColor(float t) {
 
 int diffCommand(const std::vector<std::string> &arguments) {
     std::vector<std::string> files;
-    std::string layer, errorImage, metric = "relmse";
+    std::string layer, errorImage, metric = "relmse", crop;
     double tolerance = -1.0;
     for (ArgumentReader reader(arguments, "diff"); reader.more();) {
         const std::string arg = reader.next();
         const auto value = [&] { return reader.valueOf(arg); };
         if (arg == "--layer") {
             layer = value();
+        } else if (arg == "--crop") {
+            crop = value();
         } else if (arg == "--out") {
             errorImage = value();
         } else if (arg == "--metric") {
@@ -144,10 +163,14 @@ int diffCommand(const std::vector<std::string> &arguments) {
     }
     if (files.size() != 2)
         throw NoriException("diff: expects two images, IMAGE and REFERENCE (got {})", files.size());
-    const Bitmap image = loadForDiff(files[0], layer), reference = loadForDiff(files[1], layer);
+    Bitmap image = loadForDiff(files[0], layer), reference = loadForDiff(files[1], layer);
     if (image.rows() != reference.rows() || image.cols() != reference.cols())
         throw NoriException("diff: {} is {}x{} but {} is {}x{}", files[0], image.cols(),
                             image.rows(), files[1], reference.cols(), reference.rows());
+    if (!crop.empty()) {
+        image = cropForDiff(image, crop);
+        reference = cropForDiff(reference, crop);
+    }
 
     double maxAbs = 0.0, peak = 1.0;
     size_t differing = 0;

@@ -394,6 +394,8 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash)
                formatDuration(result.seconds), result.samplesPerPixel,
                static_cast<double>(result.samplesTaken) / result.seconds * 1e-6, rays * 1e-6,
                rays / result.seconds * 1e-6, stem, stem);
+    if (const std::string summary = scene.getIntegrator()->renderSummary(); !summary.empty())
+        fmt::print(stderr, "{}\n", summary);
     if (options.denoise)
         writeDenoised(result.layers, stem, renderOptions.threads, options.exposure);
     return 0;

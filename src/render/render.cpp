@@ -114,7 +114,9 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
               prototype->getMaxTolerance() > 0.0f);
     const FilterSampler filterSampler(camera->getReconstructionFilter());
 
-    scene.getIntegrator()->preprocess(&scene);
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    // The integrator's own parallel work (a photon map) keeps to the threads asked for.
+    arena.execute([&] { scene.getIntegrator()->preprocess(&scene); });
 
     RenderResult result;
     result.targetSamplesPerPixel = targetSpp;
@@ -122,13 +124,15 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     ProgressBar progress("Rendering", pixelCount * targetSpp, options.showProgress);
     size_t samplesDone = 0; // for the progress bar: stopped pixels count as done
     std::mutex mutex;
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
 
     size_t sppDone = 0;
     while (sppDone < targetSpp && !isCancelled(options)) {
+        Integrator *integrator = scene.getIntegrator();
         size_t passSize = std::min(
             scheduledPassSize(result.passes, options.minPassSamples, options.maxPassSamples),
             targetSpp - sppDone);
+        if (integrator->maxSamplesPerPass() > 0)
+            passSize = std::min(passSize, integrator->maxSamplesPerPass());
         if (options.timeBudget > 0.0 && sppDone > 0) {
             // Shorten the pass to what the measured rate says fits in the budget left.
             const double elapsed = progress.elapsedSeconds();
@@ -140,6 +144,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
         }
         const SampleRange range{static_cast<uint32_t>(options.firstSample + sppDone),
                                 static_cast<uint32_t>(options.firstSample + sppDone + passSize)};
+
+        arena.execute([&] { integrator->beginPass(&scene, range.first, range.end); });
 
         std::vector<std::unique_ptr<FilmBlock>> passBlocks(film.blockCount());
         std::atomic<bool> interrupted{false};
@@ -180,6 +186,7 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
                     block.updateConvergence(settings.getMinSamples(), settings.getMaxTolerance());
             });
         });
+        arena.execute([&] { integrator->endPass(&scene); });
         sppDone += passSize;
         ++result.passes;
         result.samplesTaken += passValid;

@@ -1,0 +1,275 @@
+#include <nori/bsdf.h>
+#include <nori/emitter.h>
+#include <nori/hash.h>
+#include <nori/pcg32.h>
+#include <nori/photonmap.h>
+#include <nori/proplist.h>
+#include <nori/raydifferential.h>
+#include <nori/sampler.h>
+#include <nori/scene.h>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <chrono>
+
+namespace nori {
+
+namespace {
+
+/// Ranges at least this large are split in parallel while building.
+constexpr size_t kParallelBuildSize = 1 << 15;
+/// Photon paths traced per task.
+constexpr size_t kPathsPerChunk = 4096;
+/// A path ends after this many bounces even if Russian roulette has not ended it.
+constexpr int kMaxPhotonBounces = 1024;
+/// Camera paths: Russian roulette from this bounce on, and a hard limit.
+constexpr int kCameraRouletteDepth = 3;
+constexpr int kMaxCameraBounces = 1024;
+/// Paths traced at most per photon wanted, before giving up on filling the map.
+constexpr uint64_t kMaxPathsPerPhoton = 100;
+
+/// The photons the paths of one chunk stored, and after each path how many so far.
+struct ChunkPhotons {
+    std::vector<Photon> photons;
+    std::vector<uint32_t> storedAfterPath;
+};
+
+/// Traces photon path `index`, appending the photons it stores.
+void tracePhotonPath(const Scene &scene, uint64_t seed, uint64_t index,
+                     std::vector<Photon> &stored) {
+    PCG32 random(hashValues(seed, index), 0x70686f746f6eULL); // stream "photon"
+    float emitterSample = random.nextFloat(), pmf;
+    const Emitter *emitter = scene.sampleEmitter(emitterSample, pmf);
+    if (!emitter || pmf == 0.0f)
+        return;
+    const Point2f positionSample(random.nextFloat(), random.nextFloat());
+    const Point2f directionSample(random.nextFloat(), random.nextFloat());
+    Ray3f ray;
+    Color3f power = emitter->samplePhoton(ray, positionSample, directionSample) / pmf;
+    if (!power.isValid() || (power == 0.0f).all())
+        return;
+    Color3f throughput(1.0f); // power relative to the emitted power, for the roulette
+    for (int bounce = 0; bounce < kMaxPhotonBounces; ++bounce) {
+        Intersection its;
+        if (!scene.rayIntersect(ray, its))
+            return;
+        const BSDF *bsdf = its.shape->getBSDF();
+        const Vector3f wi = -ray.d.normalized();
+        if (bsdf->isDiffuse())
+            stored.push_back({its.p, wi, power});
+
+        BSDFQueryRecord bRec(its, its.toLocal(wi));
+        Color3f weight = bsdf->sample(bRec, Point2f(random.nextFloat(), random.nextFloat()));
+        const Vector3f wo = its.toWorld(bRec.wo);
+        if ((weight == 0.0f).all() || !its.sidesAgree(wo))
+            return;
+        // Flux is not scaled by 1/η² across a refraction as radiance is (Veach 1997, §5.2),
+        // and shading normals make the adjoint BSDF differ by |wi·ns||wo·ng|/(|wi·ng||wo·ns|)
+        // (Veach 1997, §5.3; PBR 3rd ed. §16.1.3).
+        const float cosInGeometric = std::abs(wi.dot(its.geoFrame.n));
+        const float cosOutShading = std::abs(Frame::cosTheta(bRec.wo));
+        if (cosInGeometric == 0.0f || cosOutShading == 0.0f)
+            return;
+        weight *= bRec.eta * bRec.eta * std::abs(Frame::cosTheta(bRec.wi)) *
+                  std::abs(wo.dot(its.geoFrame.n)) / (cosInGeometric * cosOutShading);
+        power *= weight;
+        throughput *= weight;
+        // Russian roulette: continue with probability q, and divide by it.
+        const float q = std::min(0.99f, throughput.maxCoeff());
+        if (!(random.nextFloat() < q))
+            return;
+        power /= q;
+        throughput /= q;
+        ray = its.spawnRay(wo);
+    }
+}
+
+ChunkPhotons traceChunk(const Scene &scene, uint64_t seed, uint64_t firstPath, size_t pathCount) {
+    ChunkPhotons chunk;
+    chunk.storedAfterPath.reserve(pathCount);
+    for (size_t i = 0; i < pathCount; ++i) {
+        tracePhotonPath(scene, seed, firstPath + i, chunk.photons);
+        chunk.storedAfterPath.push_back(static_cast<uint32_t>(chunk.photons.size()));
+    }
+    return chunk;
+}
+
+} // namespace
+
+PhotonMap::PhotonMap(std::vector<Photon> photons)
+    : m_photons(std::move(photons)), m_axes(m_photons.size(), 0) {
+    build(0, m_photons.size());
+}
+
+void PhotonMap::build(size_t begin, size_t end) {
+    if (end - begin <= 1)
+        return;
+    Point3f lower = m_photons[begin].position, upper = lower;
+    for (size_t i = begin + 1; i < end; ++i) {
+        lower = lower.cwiseMin(m_photons[i].position);
+        upper = upper.cwiseMax(m_photons[i].position);
+    }
+    int axis;
+    (upper - lower).maxCoeff(&axis);
+    const size_t median = begin + (end - begin) / 2;
+    std::nth_element(
+        m_photons.begin() + static_cast<ptrdiff_t>(begin),
+        m_photons.begin() + static_cast<ptrdiff_t>(median),
+        m_photons.begin() + static_cast<ptrdiff_t>(end),
+        [axis](const Photon &a, const Photon &b) { return a.position[axis] < b.position[axis]; });
+    m_axes[median] = static_cast<uint8_t>(axis);
+    if (end - begin >= kParallelBuildSize)
+        tbb::parallel_invoke([&] { build(begin, median); }, [&] { build(median + 1, end); });
+    else {
+        build(begin, median);
+        build(median + 1, end);
+    }
+}
+
+PhotonMap tracePhotons(const Scene &scene, size_t photonCount, uint64_t seed,
+                       PhotonTracingStatistics *statistics) {
+    const auto start = std::chrono::steady_clock::now();
+    if (scene.getEmitters().empty())
+        throw NoriException("photon mapping needs a light, and the scene has none");
+    std::vector<Photon> photons;
+    photons.reserve(photonCount);
+    const uint64_t maxPaths = kMaxPathsPerPhoton * std::max<uint64_t>(photonCount, 1);
+    uint64_t emitted = 0;
+    // Rounds of chunks in parallel, merged in path order until the map is full. The first
+    // round traces an eighth of photonCount paths; later ones what the stored/emitted
+    // ratio so far says is missing, with 10% to spare.
+    uint64_t roundPaths = std::max<uint64_t>(photonCount / 8, 1);
+    while (photons.size() < photonCount && emitted < maxPaths) {
+        const size_t chunkCount =
+            static_cast<size_t>((roundPaths + kPathsPerChunk - 1) / kPathsPerChunk);
+        std::vector<ChunkPhotons> chunks(chunkCount);
+        const uint64_t roundStart = emitted;
+        tbb::parallel_for(size_t(0), chunkCount, [&](size_t c) {
+            chunks[c] = traceChunk(scene, seed, roundStart + c * kPathsPerChunk, kPathsPerChunk);
+        });
+        for (const ChunkPhotons &chunk : chunks) {
+            for (size_t path = 0; path < chunk.storedAfterPath.size(); ++path) {
+                const uint32_t from = path == 0 ? 0 : chunk.storedAfterPath[path - 1];
+                photons.insert(photons.end(), chunk.photons.begin() + from,
+                               chunk.photons.begin() + chunk.storedAfterPath[path]);
+                ++emitted;
+                if (photons.size() >= photonCount || emitted >= maxPaths)
+                    break;
+            }
+            if (photons.size() >= photonCount || emitted >= maxPaths)
+                break;
+        }
+        const double storedPerPath =
+            photons.empty() ? 0.0 : static_cast<double>(photons.size()) / emitted;
+        const double missing =
+            static_cast<double>(photonCount - std::min(photons.size(), photonCount));
+        roundPaths = storedPerPath > 0.0 ? static_cast<uint64_t>(1.1 * missing / storedPerPath) + 1
+                                         : 8 * roundPaths;
+        roundPaths = std::min(roundPaths, maxPaths - std::min(maxPaths, emitted));
+    }
+    // The map holds flux per emitted path.
+    if (emitted > 0) {
+        const float perPath = 1.0f / static_cast<float>(emitted);
+        tbb::parallel_for(size_t(0), photons.size(),
+                          [&](size_t i) { photons[i].power *= perPath; });
+    }
+    photons.shrink_to_fit();
+    PhotonMap map(std::move(photons));
+    if (statistics) {
+        statistics->stored = map.size();
+        statistics->emitted = emitted;
+        statistics->bytes = map.memoryBytes();
+        statistics->seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    return map;
+}
+
+Color3f photonMappedRadiance(const Scene &scene, const PhotonMap &map, Sampler &sampler,
+                             const Ray3f &cameraRay, float radius, size_t *photonsFound) {
+    if (photonsFound)
+        *photonsFound = 0;
+    Color3f radiance(0.0f), throughput(1.0f);
+    Ray3f ray = cameraRay;
+    Point3f previous = ray.o;
+    for (int bounce = 0; bounce < kMaxCameraBounces; ++bounce) {
+        Intersection its;
+        if (!scene.rayIntersect(ray, its)) {
+            // Only specular chains reach here: a filtered lookup of the environment.
+            for (const Emitter *emitter : scene.getInfiniteEmitters())
+                radiance += throughput * emitter->eval(EmitterQueryRecord(ray, true));
+            break;
+        }
+        if (const Emitter *emitter = its.shape->getEmitter())
+            radiance += throughput * emitter->eval(EmitterQueryRecord(previous, its));
+
+        const BSDF *bsdf = its.shape->getBSDF();
+        const Vector3f wiLocal = its.toLocal(-ray.d.normalized());
+        if (bsdf->isDiffuse()) {
+            Color3f reflected(0.0f);
+            size_t found = 0;
+            map.forEachWithin(its.p, radius, [&](const Photon &photon) {
+                ++found;
+                const BSDFQueryRecord bRec(its, wiLocal, its.toLocal(photon.direction),
+                                           ESolidAngle);
+                reflected += bsdf->eval(bRec) * photon.power;
+            });
+            radiance += throughput * reflected / (kPi * radius * radius);
+            if (photonsFound)
+                *photonsFound = found;
+            break;
+        }
+
+        // The same dimensions at every bounce, used or not.
+        const Point2f bsdfSample = sampler.next2D();
+        const float rouletteSample = sampler.next1D();
+        BSDFQueryRecord bRec(its, wiLocal);
+        const Color3f weight = bsdf->sample(bRec, bsdfSample);
+        if ((weight == 0.0f).all() || !its.sidesAgree(its.toWorld(bRec.wo)))
+            break;
+        throughput *= weight;
+        previous = its.p;
+        ray = spawnScatteredRay(its, ray, bRec);
+        if (bounce + 1 >= kCameraRouletteDepth) {
+            const float q = std::min(0.99f, throughput.maxCoeff());
+            if (rouletteSample >= q)
+                break;
+            throughput /= q;
+        }
+    }
+    return radiance;
+}
+
+PhotonMappingParameters PhotonMappingParameters::read(const PropertyList &props,
+                                                      const std::string &plugin) {
+    PhotonMappingParameters parameters;
+    const int count = props.getInteger("photonCount", 1000000);
+    if (count <= 0)
+        throw NoriException("{}: 'photonCount' must be positive, got {}", plugin, count);
+    parameters.photonCount = static_cast<size_t>(count);
+    parameters.photonRadius = props.getFloat("photonRadius", 0.0f);
+    if (!(parameters.photonRadius >= 0.0f) || !std::isfinite(parameters.photonRadius))
+        throw NoriException("{}: 'photonRadius' must be finite and not negative (0: automatic), "
+                            "got {}",
+                            plugin, parameters.photonRadius);
+    return parameters;
+}
+
+std::string describe(const PhotonTracingStatistics &statistics) {
+    return fmt::format("{} photons stored from {} paths, {:.1f} MiB, in {:.2f} s",
+                       statistics.stored, statistics.emitted,
+                       static_cast<double>(statistics.bytes) / (1024.0 * 1024.0),
+                       statistics.seconds);
+}
+
+float photonGatherRadius(const Scene &scene, float photonRadius) {
+    if (photonRadius > 0.0f)
+        return photonRadius;
+    const BoundingBox3f &bounds = scene.getBoundingBox();
+    const float diagonal = bounds.isValid() ? (bounds.max - bounds.min).norm() : 0.0f;
+    return diagonal > 0.0f ? diagonal / 500.0f : 1e-3f;
+}
+
+} // namespace nori
