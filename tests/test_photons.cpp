@@ -287,21 +287,31 @@ namespace {
 /// at horizontal distance d from below its centre is ρ·Le·R²·h/D³, D² = h² + d².
 constexpr double kAlbedo = 0.5, kLe = 4.0, kLightRadius = 0.25, kHeight = 1.0;
 
-std::shared_ptr<Scene> planeUnderLight(const std::string &integrator, int width = 1) {
+/// A scene of `integrator` and `content` whose camera, at `origin` looking at `target`,
+/// has one row of `width` pixels: the progressive photon mapper keeps its statistics per
+/// pixel, and the tests give each query ray a pixel of its own.
+std::shared_ptr<Scene> queryScene(const std::string &integrator, int width,
+                                  const std::string &origin, const std::string &target,
+                                  const std::string &content, const std::string &directory) {
     return loadScene(fmt::format(R"(<scene> {}
         <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
         <camera type="perspective"><integer name="width" value="{}"/><integer name="height" value="1"/>
-            <transform name="toWorld"><lookat origin="0, 3, 3" target="0, 0, 0" up="0, 1, 0"/></transform>
-        </camera>
-        <mesh type="obj"><string name="filename" value="floor.obj"/>
+            <transform name="toWorld"><lookat origin="{}" target="{}" up="0, 1, 0"/></transform>
+        </camera> {} </scene>)",
+                                 integrator, width, origin, target, content),
+                     directory);
+}
+
+std::shared_ptr<Scene> planeUnderLight(const std::string &integrator, int width = 1) {
+    return queryScene(integrator, width, "0, 3, 3", "0, 0, 0",
+                      fmt::format(R"(<mesh type="obj"><string name="filename" value="floor.obj"/>
             <transform name="toWorld"><scale value="10"/></transform>
             <bsdf type="diffuse"><color name="albedo" value="{}"/></bsdf></mesh>
         <mesh type="sphere"><point name="center" value="0, {}, 0"/><float name="radius" value="{}"/>
             <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
-            <emitter type="area"><color name="radiance" value="{}"/></emitter></mesh>
-        </scene>)",
-                                 integrator, width, kAlbedo, kHeight, kLightRadius, kLe),
-                     std::string(NORI_SOURCE_DIR) + "/scenes/textured/meshes");
+            <emitter type="area"><color name="radiance" value="{}"/></emitter></mesh>)",
+                                  kAlbedo, kHeight, kLightRadius, kLe),
+                      std::string(NORI_SOURCE_DIR) + "/scenes/textured/meshes");
 }
 
 double lambert(double d) {
@@ -465,17 +475,12 @@ std::shared_ptr<Scene> furnaceBox(const TempDir &dir, const std::string &integra
             vertex += 4;
         }
     dir.write("box.obj", obj);
-    return loadScene(fmt::format(R"(<scene> {}
-        <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
-        <camera type="perspective"><integer name="width" value="{}"/><integer name="height" value="1"/>
-            <transform name="toWorld"><lookat origin="0, 0, 0" target="1, 0, 0" up="0, 1, 0"/></transform>
-        </camera>
-        <mesh type="obj"><string name="filename" value="box.obj"/>
+    return queryScene(integrator, width, "0, 0, 0", "1, 0, 0",
+                      fmt::format(R"(<mesh type="obj"><string name="filename" value="box.obj"/>
             <bsdf type="diffuse"><color name="albedo" value="{}"/></bsdf>
-            <emitter type="area"><color name="radiance" value="1"/></emitter></mesh>
-        </scene>)",
-                                 integrator, width, albedo),
-                     dir.path().string());
+            <emitter type="area"><color name="radiance" value="1"/></emitter></mesh>)",
+                                  albedo),
+                      dir.path().string());
 }
 
 } // namespace
