@@ -1,6 +1,8 @@
 // Microfacet distributions for rough surfaces (Walter et al. 2007, "Microfacet Models
 // for Refraction through Rough Surfaces"): Beckmann and GGX with the Smith shadowing
-// term. Directions and normals are in the local frame (macro-normal +z).
+// term, isotropic or anisotropic by stretching the slopes by αx along +x and αy along
+// +y (Heitz 2014, "Understanding the Masking-Shadowing Function", §5.3). Directions and
+// normals are in the local frame (macro-normal +z).
 #pragma once
 
 #include <nori/proplist.h>
@@ -15,16 +17,23 @@ class MicrofacetDistribution {
 public:
     enum class Type { Beckmann, GGX };
 
-    MicrofacetDistribution(Type type, float alpha) : m_type(type), m_alpha(alpha) {}
+    /// An isotropic distribution of roughness alpha.
+    MicrofacetDistribution(Type type, float alpha) : MicrofacetDistribution(type, alpha, alpha) {}
+    /// An anisotropic distribution: roughness alphaX along the local +x, alphaY along +y.
+    MicrofacetDistribution(Type type, float alphaX, float alphaY)
+        : m_type(type), m_alphaX(alphaX), m_alphaY(alphaY) {}
     /// "beckmann" or "ggx"; throws NoriException otherwise.
     static Type parseType(const std::string &name);
 
     Type type() const { return m_type; }
-    float alpha() const { return m_alpha; }
+    float alphaX() const { return m_alphaX; }
+    float alphaY() const { return m_alphaY; }
+    bool isIsotropic() const { return m_alphaX == m_alphaY; }
 
     /// The normal distribution D(m), normalised so that ∫ D(m) cos θm dωm = 1.
     float D(const Vector3f &m) const;
-    /// Smith's monodirectional shadowing G1(v, m) (Walter eq. 27 for Beckmann, 34 for GGX).
+    /// Smith's monodirectional shadowing G1(v, m) (Walter eq. 27 for Beckmann, 34 for GGX),
+    /// with the roughness of the stretched distribution in v's azimuth (Heitz 2014, eq. 80).
     float G1(const Vector3f &v, const Vector3f &m) const;
     /// G(wi, wo, m) = G1(wi, m) G1(wo, m).
     float G(const Vector3f &wi, const Vector3f &wo, const Vector3f &m) const {
@@ -35,9 +44,20 @@ public:
     /// The density of sampleNormal: D(m) cos θm.
     float pdfNormal(const Vector3f &m) const;
 
+    /// A normal as seen from v (v.z > 0): for GGX, drawn from the distribution of visible
+    /// normals G1(v) ⟨v, m⟩⁺ D(m)/cos θv (Heitz 2018, "Sampling the GGX Distribution of
+    /// Visible Normals"), which wastes no samples on normals facing away from v; for
+    /// Beckmann, whose visible normals have no closed-form inverse, sampleNormal().
+    Vector3f sampleNormal(const Vector3f &v, const Point2f &sample) const;
+    /// The density of sampleNormal(v, ·).
+    float pdfNormal(const Vector3f &v, const Vector3f &m) const;
+
 private:
+    /// α² tan²θv in v's azimuth: the argument of Smith's Λ for the stretched distribution.
+    float projectedRoughness2Tan2(const Vector3f &v) const;
+
     Type m_type;
-    float m_alpha;
+    float m_alphaX, m_alphaY;
 };
 
 /// A microfacet distribution whose roughness may be a texture: the rough BSDFs build the
