@@ -1,6 +1,7 @@
 // Reconstruction filters, image blocks and image files.
 #include <nori/bitmap.h>
 #include <nori/imageblock.h>
+#include <nori/layeredimage.h>
 #include <nori/rfilter.h>
 
 #include "testutil.h"
@@ -221,4 +222,138 @@ TEST_CASE("nori-imgtool diff prints the error metrics and exits 1 above the tole
     CHECK_THAT(
         nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", a, b, "--layer", "albedo"}).output,
         Catch::Contains("albedo"));
+}
+
+namespace {
+
+Bitmap scaled(const Bitmap &image, float factor) {
+    Bitmap result = image;
+    for (Color3f &pixel : result.reshaped())
+        pixel *= factor;
+    return result;
+}
+
+} // namespace
+
+TEST_CASE("nori-imgtool convert round-trips between EXR, PFM, HDR and PNG", "[image][imgtool]") {
+    nori::testing::TempDir dir;
+    Bitmap image(Eigen::Vector2i(5, 3));
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x)
+            image(y, x) = Color3f(0.1f * x + 0.01f, 0.3f * y, 0.05f * (x + y) + 0.2f);
+    auto path = [&](const char *name) { return (dir.path() / name).string(); };
+    auto convert = [&](std::vector<std::string> arguments) {
+        arguments.insert(arguments.begin(), "convert");
+        const auto result = nori::testing::runCommand(IMGTOOL_EXECUTABLE, arguments);
+        INFO(result.output);
+        REQUIRE(result.exitCode == 0);
+    };
+    image.saveEXR(path("in.exr"));
+
+    // Floats survive EXR → PFM → EXR bit for bit.
+    convert({path("in.exr"), path("a.pfm")});
+    convert({path("a.pfm"), path("a.exr")});
+    CHECK(nori::testing::identicalImages(Bitmap::load(path("a.exr")), image));
+    // RGBE keeps 8 bits of mantissa for the largest channel: a relative error below 2^-8
+    // of each pixel's largest value.
+    convert({path("in.exr"), path("a.hdr")});
+    const Bitmap hdr = Bitmap::load(path("a.hdr"));
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x)
+            CHECK((hdr(y, x) - image(y, x)).abs().maxCoeff() <=
+                  image(y, x).maxCoeff() / 256.0f + 1e-7f);
+    // sRGB PNG: each value within half a step of 8-bit sRGB, decoded back to linear.
+    convert({path("in.exr"), path("a.png")});
+    const Bitmap png = Bitmap::load(path("a.png"));
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x)
+            CHECK((png(y, x).toSRGB() - image(y, x).toSRGB()).abs().maxCoeff() <=
+                  0.5f / 255.0f + 1e-6f);
+    // A linear PNG stores the values themselves; read back as linear they are within half a
+    // step, and the sRGB reading of the same file is not (the encoding matters).
+    convert({path("in.exr"), path("linear.png"), "--encoding", "linear"});
+    convert({path("linear.png"), path("linear.pfm"), "--encoding", "linear"});
+    convert({path("linear.png"), path("srgb.pfm")});
+    const Bitmap linear = Bitmap::load(path("linear.pfm")), srgb = Bitmap::load(path("srgb.pfm"));
+    auto largestDifference = [](const Bitmap &a, const Bitmap &b) {
+        float largest = 0.0f;
+        for (int y = 0; y < a.height(); ++y)
+            for (int x = 0; x < a.width(); ++x)
+                largest = std::max(largest, (a(y, x) - b(y, x)).abs().maxCoeff());
+        return largest;
+    };
+    CHECK(largestDifference(linear, image) <= 0.5f / 255.0f + 1e-6f);
+    CHECK(largestDifference(srgb, image) > 0.05f);
+    // --exposure 1 doubles every value; --layer picks an AOV of a layered EXR.
+    convert({path("in.exr"), path("bright.pfm"), "--exposure", "1"});
+    CHECK(nori::testing::identicalImages(Bitmap::load(path("bright.pfm")), scaled(image, 2.0f)));
+    LayeredImage layered(Eigen::Vector2i(5, 3));
+    layered.addLayer("", {"R", "G", "B"}, image);
+    layered.addLayer("albedo", {"R", "G", "B"}, scaled(image, 0.5f));
+    layered.saveEXR(path("layered.exr"));
+    convert({path("layered.exr"), path("albedo.exr"), "--layer", "albedo"});
+    CHECK(nori::testing::identicalImages(Bitmap::load(path("albedo.exr")), scaled(image, 0.5f)));
+}
+
+TEST_CASE("nori-imgtool info prints sizes, layers and statistics", "[image][imgtool]") {
+    nori::testing::TempDir dir;
+    LayeredImage layered(Eigen::Vector2i(2, 2));
+    Bitmap beauty(Eigen::Vector2i(2, 2));
+    beauty(0, 0) = Color3f(1.0f, 2.0f, -1.0f);
+    beauty(0, 1) = Color3f(3.0f, 2.0f, 0.0f);
+    beauty(1, 0) = Color3f(std::nanf(""), 2.0f, 1.0f);
+    beauty(1, 1) = Color3f(5.0f, kInfinity, 2.0f);
+    layered.addLayer("", {"R", "G", "B"}, beauty);
+    LayeredImage::Channel depth(2, 2);
+    depth << 1.0f, 2.0f, 3.0f, 6.0f;
+    layered.addChannel("depth.Z", depth);
+    const std::string file = (dir.path() / "info.exr").string();
+    layered.saveEXR(file);
+    const auto info = nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"info", file});
+    INFO(info.output);
+    CHECK(info.exitCode == 0);
+    // Statistics over finite values: R has 1, 3, 5 (NaN left out), G 2, 2, 2 (inf left out).
+    CHECK_THAT(info.output, Contains("width 2\nheight 2\nlayers (beauty) depth\n"));
+    CHECK_THAT(info.output, Contains("\nchannels R G B\nmin 1 2 -1\nmax 5 2 2\nmean 3 2 0.5\n"
+                                     "nan 1\ninf 1\n"));
+    CHECK_THAT(info.output, Contains("depth.channels Z\ndepth.min 1\ndepth.max 6\ndepth.mean 3\n"
+                                     "depth.nan 0\ndepth.inf 0\n"));
+    const auto one =
+        nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"info", file, "--layer", "depth"});
+    CHECK_THAT(one.output, Contains("depth.mean 3\n") && !Contains("\nmean"));
+}
+
+TEST_CASE("nori-imgtool convert and info reject bad files with clear errors", "[image][imgtool]") {
+    nori::testing::TempDir dir;
+    Bitmap image(Eigen::Vector2i(16, 16));
+    image.setConstant(Color3f(0.5f));
+    const std::string exr = (dir.path() / "good.exr").string();
+    image.saveEXR(exr);
+    std::string bytes;
+    {
+        std::ifstream in(exr, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const std::string truncated = dir.write("truncated.exr", bytes.substr(0, bytes.size() / 2));
+    auto run = [](const std::vector<std::string> &arguments) {
+        return nori::testing::runCommand(IMGTOOL_EXECUTABLE, arguments);
+    };
+    const std::string out = (dir.path() / "out.png").string();
+    for (const auto &result : {run({"convert", truncated, out}), run({"info", truncated})}) {
+        CHECK(result.exitCode == 1);
+        CHECK_THAT(result.output, Contains("truncated.exr"));
+    }
+    const auto layer = run({"convert", exr, out, "--layer", "albedo"});
+    CHECK(layer.exitCode == 1);
+    CHECK_THAT(layer.output, Contains("good.exr: the image has no layer 'albedo' (its layers: "
+                                      "(beauty))"));
+    CHECK_THAT(run({"info", exr, "--layer", "normal"}).output,
+               Contains("good.exr: the image has no layer 'normal'"));
+    CHECK_THAT(run({"convert", exr, (dir.path() / "out.tiff").string()}).output,
+               Contains("the output's extension must be .exr, .pfm, .hdr or .png"));
+    CHECK_THAT(run({"convert", exr, out, "--encoding", "gamma"}).output,
+               Contains("--encoding must be srgb or linear, got 'gamma'"));
+    CHECK_THAT(run({"convert", (dir.path() / "missing.exr").string(), out}).output,
+               Contains("missing.exr"));
+    CHECK_FALSE(std::filesystem::exists(out));
 }

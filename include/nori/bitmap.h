@@ -1,5 +1,5 @@
-// An RGB image of floats, with EXR and PFM (linear) and PNG (sRGB, 8 bit) input and
-// output.
+// An RGB image of floats, with EXR, PFM and HDR (linear) and PNG (sRGB, 8 bit) input
+// and output.
 #pragma once
 
 #include <nori/color.h>
@@ -30,8 +30,11 @@ public:
     /// Writes a portable float map (linear RGB, little-endian), as Intel Open Image
     /// Denoise's example tool reads it.
     void savePFM(const std::string &filename) const;
-    /// Writes 8-bit sRGB of the values scaled by 2^exposure, clamping to [0, 1].
-    void savePNG(const std::string &filename, float exposure = 0.0f) const;
+    /// Writes 8-bit sRGB of the values scaled by 2^exposure, clamping to [0, 1]; with
+    /// `srgb` false, the scaled values as they are (a linear encoding, for data).
+    void savePNG(const std::string &filename, float exposure = 0.0f, bool srgb = true) const;
+    /// Writes Radiance RGBE (.hdr): linear, a shared 8-bit exponent per pixel (Ward 1991).
+    void saveHDR(const std::string &filename) const;
 };
 
 /// The mean over pixels and channels of (image − reference)²; the sizes must agree.

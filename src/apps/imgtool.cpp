@@ -1,6 +1,8 @@
 // nori-imgtool: operations on rendered images: `denoise` runs the built-in denoiser on a
-// multi-layer EXR written by `nori --aovs ...`; `diff` compares a render with a reference.
+// multi-layer EXR written by `nori --aovs ...`; `diff` compares a render with a reference;
+// `convert` changes an image's format; `info` prints its size, layers and statistics.
 #include <nori/denoiser.h>
+#include <nori/imagefile.h>
 #include <nori/layeredimage.h>
 #include <nori/program.h>
 #include <nori/strutil.h>
@@ -31,6 +33,20 @@ Commands:
       --out writes the per-pixel absolute error in false colour (black, red, yellow,
       white up to the largest error). With --tolerance, exits 1 when the metric M (rmse,
       relmse or maxabs; default relmse) exceeds T.
+
+  convert IN OUT [--layer NAME] [--exposure EV] [--encoding srgb|linear]
+      Writes IN (EXR, PFM, HDR, PNG, JPEG) as OUT, in the format of OUT's extension:
+      .exr, .pfm, .hdr (linear floats) or .png (8 bits). --layer picks an AOV layer of
+      an EXR (default: the beauty); --exposure scales the values by 2^EV; --encoding
+      says how 8-bit files (PNG, JPEG in; PNG out) encode values: sRGB (the default,
+      as for display) or linear (data such as normal maps).
+
+  info IMAGE [--layer NAME]
+      Prints one `key value` per line: file, width, height, layers (EXR; `(beauty)` is
+      the R, G, B layer), then for each layer (or the one named) its statistics, keyed
+      by the layer's name and a dot (none for the beauty): channels, min, max and mean
+      (per channel, over finite values; 8-bit files: the stored values in [0, 1]), nan
+      and inf (counts of values).
 )";
 
 /// Reads a command's arguments in order; an option's value is the argument after it.
@@ -95,8 +111,17 @@ int denoiseCommand(const std::vector<std::string> &arguments) {
     return 0;
 }
 
-/// An image to compare: an EXR's layer, or any image file's pixels.
-Bitmap loadForDiff(const std::string &file, const std::string &layer) {
+/// How 8-bit files encode values: "srgb" (display) or "linear" (data).
+bool isSRGBEncoding(const std::string &encoding, const std::string &command) {
+    if (encoding != "srgb" && encoding != "linear")
+        throw NoriException("{}: --encoding must be srgb or linear, got '{}'", command, encoding);
+    return encoding == "srgb";
+}
+
+/// An image file's pixels, linear: an EXR's layer (the beauty when `layer` is empty), or
+/// any other image, whose 8-bit values are decoded as sRGB when `srgb` is set.
+Bitmap loadImage(const std::string &file, const std::string &layer, bool srgb,
+                 const std::string &command) {
     const std::string extension = toLower(std::filesystem::path(file).extension().string());
     if (extension == ".exr") {
         const LayeredImage image = LayeredImage::loadEXR(file);
@@ -107,8 +132,12 @@ Bitmap loadForDiff(const std::string &file, const std::string &layer) {
         }
     }
     if (!layer.empty())
-        throw NoriException("diff: --layer needs EXR files; {} is not one", file);
-    return Bitmap::load(file);
+        throw NoriException("{}: --layer needs EXR files; {} is not one", command, file);
+    ImageFile decoded = readImageFile(file);
+    if (decoded.integerEncoded && srgb)
+        for (Color3f &pixel : decoded.pixels.reshaped())
+            pixel = pixel.toLinearRGB();
+    return std::move(decoded.pixels);
 }
 
 /// The W×H pixels of `image` from column X, row Y, given as "X,Y,W,H".
@@ -163,7 +192,8 @@ int diffCommand(const std::vector<std::string> &arguments) {
     }
     if (files.size() != 2)
         throw NoriException("diff: expects two images, IMAGE and REFERENCE (got {})", files.size());
-    Bitmap image = loadForDiff(files[0], layer), reference = loadForDiff(files[1], layer);
+    Bitmap image = loadImage(files[0], layer, true, "diff"),
+           reference = loadImage(files[1], layer, true, "diff");
     if (image.rows() != reference.rows() || image.cols() != reference.cols())
         throw NoriException("diff: {} is {}x{} but {} is {}x{}", files[0], image.cols(),
                             image.rows(), files[1], reference.cols(), reference.rows());
@@ -211,6 +241,136 @@ int diffCommand(const std::vector<std::string> &arguments) {
     return 0;
 }
 
+int convertCommand(const std::vector<std::string> &arguments) {
+    std::vector<std::string> files;
+    std::string layer, encoding = "srgb";
+    float exposure = 0.0f;
+    for (ArgumentReader reader(arguments, "convert"); reader.more();) {
+        const std::string arg = reader.next();
+        const auto value = [&] { return reader.valueOf(arg); };
+        if (arg == "--layer") {
+            layer = value();
+        } else if (arg == "--exposure") {
+            exposure = toFloat(value(), arg);
+            if (!std::isfinite(exposure) || std::abs(exposure) > 100.0f)
+                throw NoriException("convert: --exposure must be a number of stops in [-100, 100]");
+        } else if (arg == "--encoding") {
+            encoding = value();
+        } else if (!arg.empty() && arg[0] == '-') {
+            throw NoriException("convert: unknown option '{}'", arg);
+        } else {
+            files.push_back(arg);
+        }
+    }
+    if (files.size() != 2)
+        throw NoriException("convert: expects IN and OUT (got {} files)", files.size());
+    const bool srgb = isSRGBEncoding(encoding, "convert");
+    const std::string extension = toLower(std::filesystem::path(files[1]).extension().string());
+    if (extension != ".exr" && extension != ".pfm" && extension != ".hdr" && extension != ".png")
+        throw NoriException("convert: cannot write '{}': the output's extension must be .exr, "
+                            ".pfm, .hdr or .png",
+                            files[1]);
+    Bitmap image = loadImage(files[0], layer, srgb, "convert");
+    if (extension == ".png") {
+        image.savePNG(files[1], exposure, srgb);
+        return 0;
+    }
+    const float scale = std::exp2(exposure);
+    for (Color3f &pixel : image.reshaped())
+        pixel *= scale;
+    if (extension == ".exr")
+        image.saveEXR(files[1]);
+    else if (extension == ".pfm")
+        image.savePFM(files[1]);
+    else
+        image.saveHDR(files[1]);
+    return 0;
+}
+
+/// Prints the statistics of one layer's channels, keys prefixed by `prefix`.
+void printLayerStatistics(const std::string &prefix, const std::vector<std::string> &names,
+                          const std::vector<const LayeredImage::Channel *> &channels) {
+    std::vector<double> minima, maxima, means;
+    size_t nans = 0, infinities = 0;
+    for (const LayeredImage::Channel *channel : channels) {
+        double lowest = kInfinity, highest = -kInfinity, sum = 0.0;
+        size_t finite = 0;
+        for (float value : channel->reshaped()) {
+            if (std::isnan(value)) {
+                ++nans;
+            } else if (std::isinf(value)) {
+                ++infinities;
+            } else {
+                lowest = std::min(lowest, double(value));
+                highest = std::max(highest, double(value));
+                sum += value;
+                ++finite;
+            }
+        }
+        // A channel with no finite value has no statistics: nan, as the counts explain.
+        const double none = std::nan("");
+        minima.push_back(finite ? lowest : none);
+        maxima.push_back(finite ? highest : none);
+        means.push_back(finite ? sum / double(finite) : none);
+    }
+    fmt::print("{}channels {}\n{}min {:.9g}\n{}max {:.9g}\n{}mean {:.9g}\n{}nan {}\n{}inf {}\n",
+               prefix, fmt::join(names, " "), prefix, fmt::join(minima, " "), prefix,
+               fmt::join(maxima, " "), prefix, fmt::join(means, " "), prefix, nans, prefix,
+               infinities);
+}
+
+int infoCommand(const std::vector<std::string> &arguments) {
+    std::string file, layer;
+    bool layerGiven = false;
+    for (ArgumentReader reader(arguments, "info"); reader.more();) {
+        const std::string arg = reader.next();
+        if (arg == "--layer") {
+            layer = reader.valueOf(arg);
+            layerGiven = true;
+        } else if (!arg.empty() && arg[0] == '-') {
+            throw NoriException("info: unknown option '{}'", arg);
+        } else if (file.empty()) {
+            file = arg;
+        } else {
+            throw NoriException("info: one image at a time ('{}' and '{}')", file, arg);
+        }
+    }
+    if (file.empty())
+        throw NoriException("info: no image file (see nori-imgtool --help)");
+    LayeredImage image;
+    if (toLower(std::filesystem::path(file).extension().string()) == ".exr") {
+        image = LayeredImage::loadEXR(file);
+    } else {
+        if (layerGiven)
+            throw NoriException("info: --layer needs an EXR file; {} is not one", file);
+        ImageFile decoded = readImageFile(file);
+        image = LayeredImage(Eigen::Vector2i(decoded.pixels.width(), decoded.pixels.height()));
+        image.addLayer("", {"R", "G", "B"}, decoded.pixels);
+    }
+    std::vector<std::string> layers = image.layerNames();
+    if (layerGiven) {
+        try {
+            image.layer(layer); // throws, naming the layers there are, when it is missing
+        } catch (const NoriException &error) {
+            throw NoriException("{}: {}", file, error.what());
+        }
+        layers = {layer};
+    }
+    std::vector<std::string> shown;
+    for (const std::string &name : image.layerNames())
+        shown.push_back(name.empty() ? "(beauty)" : name);
+    fmt::print("file {}\nwidth {}\nheight {}\nlayers {}\n", file, image.size().x(),
+               image.size().y(), fmt::join(shown, " "));
+    for (const std::string &name : layers) {
+        const std::vector<std::string> channelNames = image.channelsOf(name);
+        std::vector<const LayeredImage::Channel *> channels;
+        for (const std::string &channel : channelNames)
+            channels.push_back(&image.channels().at(name.empty() ? channel : name + "." + channel));
+        printLayerStatistics(name.empty() ? "" : name + ".", channelNames, channels);
+    }
+    return 0;
+}
+
 int run(int argc, char **argv) {
     const std::vector<std::string> arguments(argv + 1, argv + argc);
     if (arguments.empty()) {
@@ -226,6 +386,10 @@ int run(int argc, char **argv) {
         return denoiseCommand({arguments.begin() + 1, arguments.end()});
     if (command == "diff")
         return diffCommand({arguments.begin() + 1, arguments.end()});
+    if (command == "convert")
+        return convertCommand({arguments.begin() + 1, arguments.end()});
+    if (command == "info")
+        return infoCommand({arguments.begin() + 1, arguments.end()});
     throw NoriException("unknown command '{}' (see nori-imgtool --help)", command);
 }
 

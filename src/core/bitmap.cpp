@@ -59,20 +59,35 @@ void Bitmap::savePFM(const std::string &filename) const {
     writeBinaryFile(filename, bytes, "PFM image");
 }
 
-void Bitmap::savePNG(const std::string &filename, float exposure) const {
+void Bitmap::savePNG(const std::string &filename, float exposure, bool srgb) const {
     const float scale = std::exp2(exposure);
     std::vector<unsigned char> rgb(static_cast<size_t>(width()) * height() * 3);
     for (int y = 0; y < height(); ++y)
         for (int x = 0; x < width(); ++x) {
-            Color3f srgb = Color3f(coeff(y, x) * scale).toSRGB();
+            const Color3f scaled = coeff(y, x) * scale;
+            const Color3f encoded = srgb ? scaled.toSRGB() : scaled;
             for (int c = 0; c < 3; ++c) {
-                float value = std::isfinite(srgb[c]) ? std::clamp(srgb[c], 0.0f, 1.0f) : 0.0f;
+                float value = std::isfinite(encoded[c]) ? std::clamp(encoded[c], 0.0f, 1.0f) : 0.0f;
                 rgb[3 * (static_cast<size_t>(y) * width() + x) + c] =
                     static_cast<unsigned char>(std::lround(value * 255.0f));
             }
         }
     if (!stbi_write_png(filename.c_str(), width(), height(), 3, rgb.data(), 3 * width()))
         throw NoriException("cannot write PNG image '{}'", filename);
+}
+
+void Bitmap::saveHDR(const std::string &filename) const {
+    // RGBE has no sign, NaN or infinity: those become 0, as in the PNG.
+    std::vector<float> rgb(static_cast<size_t>(width()) * height() * 3);
+    for (int y = 0; y < height(); ++y)
+        for (int x = 0; x < width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float value = coeff(y, x)[c];
+                rgb[3 * (static_cast<size_t>(y) * width() + x) + c] =
+                    std::isfinite(value) ? std::max(value, 0.0f) : 0.0f;
+            }
+    if (!stbi_write_hdr(filename.c_str(), width(), height(), 3, rgb.data()))
+        throw NoriException("cannot write HDR image '{}'", filename);
 }
 
 namespace {
