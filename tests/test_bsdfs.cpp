@@ -16,6 +16,7 @@
 
 using namespace nori;
 using Catch::Contains;
+using nori::testing::chiSquare;
 using nori::testing::errorOf;
 
 namespace {
@@ -30,14 +31,6 @@ std::shared_ptr<BSDF> makeBSDF(const std::string &xml) {
 Vector3f incident(float degrees) {
     const float theta = degToRad(degrees);
     return Vector3f(std::sin(theta), 0.0f, std::cos(theta));
-}
-
-ChiSquareReport chiSquare(const SamplingRoutine &routine, uint64_t seed, double alpha) {
-    ChiSquareOptions options;
-    options.sampleCount = 300000;
-    options.seed = seed;
-    options.significanceLevel = alpha;
-    return runChiSquareTest(routine, options);
 }
 
 /// Mean and standard error of the sampled weight (luminance), with refracted weights

@@ -22,6 +22,7 @@
 
 using namespace nori;
 using Catch::Contains;
+using nori::testing::chiSquare;
 using nori::testing::errorOf;
 
 namespace {
@@ -186,14 +187,6 @@ double largestDifferenceFromReference(bool plantSlip) {
 }
 
 // ---------------------------------------------------------------------------------------
-
-ChiSquareReport chiSquare(const SamplingRoutine &routine, uint64_t seed, double level) {
-    ChiSquareOptions options;
-    options.sampleCount = 300000;
-    options.seed = seed;
-    options.significanceLevel = level;
-    return runChiSquareTest(routine, options);
-}
 
 const std::vector<float> kAngles = {0.0f, 30.0f, 60.0f, 85.0f};
 

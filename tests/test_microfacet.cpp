@@ -7,6 +7,8 @@
 #include <nori/microfacet.h>
 #include <nori/statistics.h>
 
+#include "testutil.h"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -146,11 +148,7 @@ SamplingRoutine normalRoutine(const MicrofacetDistribution &distribution, const 
 }
 
 ChiSquareResult normalChiSquare(const SamplingRoutine &routine, uint64_t seed, double level) {
-    ChiSquareOptions options;
-    options.sampleCount = 300000;
-    options.seed = seed;
-    options.significanceLevel = level;
-    return runChiSquareTest(routine, options).result;
+    return nori::testing::chiSquare(routine, seed, level).result;
 }
 
 } // namespace

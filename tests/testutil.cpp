@@ -106,6 +106,14 @@ std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &dire
     return scene;
 }
 
+ChiSquareReport chiSquare(const SamplingRoutine &routine, uint64_t seed, double level) {
+    ChiSquareOptions options;
+    options.sampleCount = 300000;
+    options.seed = seed;
+    options.significanceLevel = level;
+    return runChiSquareTest(routine, options);
+}
+
 bool identicalImages(const Bitmap &a, const Bitmap &b) {
     if (a.width() != b.width() || a.height() != b.height())
         return false;

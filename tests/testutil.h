@@ -1,6 +1,7 @@
 // Helpers shared by the Catch2 tests: temporary folders, files, and running `nori`.
 #pragma once
 
+#include <nori/chisquare.h>
 #include <nori/object.h>
 #include <nori/render.h>
 #include <nori/scene.h>
@@ -65,6 +66,10 @@ struct PixelTTest {
     std::string summary() const;
 };
 PixelTTest tTestPixel(Scene &scene, double reference, size_t samples);
+
+/// The χ² test of a sampling routine with 3·10⁵ samples over Nori's default 10 × 20
+/// histogram (150 per cell), at significance `level` (Šidák-corrected by the caller).
+ChiSquareReport chiSquare(const SamplingRoutine &routine, uint64_t seed, double level);
 
 /// Whether two images have the same size and bit-identical pixels.
 bool identicalImages(const Bitmap &a, const Bitmap &b);

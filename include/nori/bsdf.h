@@ -57,6 +57,12 @@ protected:
     /// Read every colour and float parameter through this: m_textures.color(props, ...).
     TextureParameters m_textures;
 
+    /// Whether bRec queries a solid-angle density with wi and wo both above the surface:
+    /// the only queries where a reflection-only BSDF is not zero.
+    static bool isFrontReflection(const BSDFQueryRecord &bRec) {
+        return bRec.measure == ESolidAngle && bRec.wi.z() > 0.0f && bRec.wo.z() > 0.0f;
+    }
+
     /// eval·|cos θo|/pdf for the direction a sample() just chose, or 0 where the density
     /// vanishes: the weight of every BSDF that samples a mixture or a microfacet normal.
     Color3f sampleWeight(const BSDFQueryRecord &bRec) const {

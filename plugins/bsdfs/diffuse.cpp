@@ -42,15 +42,13 @@ public:
     }
 
     Color3f eval(const BSDFQueryRecord &bRec) const override {
-        if (bRec.measure != ESolidAngle || Frame::cosTheta(bRec.wi) <= 0.0f ||
-            Frame::cosTheta(bRec.wo) <= 0.0f)
+        if (!isFrontReflection(bRec))
             return Color3f(0.0f);
         return reflectance(bRec) * kInvPi;
     }
 
     float pdf(const BSDFQueryRecord &bRec) const override {
-        if (bRec.measure != ESolidAngle || Frame::cosTheta(bRec.wi) <= 0.0f ||
-            Frame::cosTheta(bRec.wo) <= 0.0f)
+        if (!isFrontReflection(bRec))
             return 0.0f;
         return Warp::squareToCosineHemispherePdf(bRec.wo);
     }

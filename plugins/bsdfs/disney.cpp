@@ -120,9 +120,9 @@ public:
     }
 
     Color3f eval(const BSDFQueryRecord &bRec) const override {
-        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
-        if (bRec.measure != ESolidAngle || cosI <= 0.0f || cosO <= 0.0f)
+        if (!isFrontReflection(bRec))
             return Color3f(0.0f);
+        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
         const Material mat = materialAt(bRec);
         const Vector3f h = Vector3f(bRec.wi + bRec.wo).normalized();
         const float cosD = h.dot(bRec.wi); // θd, the angle of either direction to h
@@ -156,8 +156,7 @@ public:
     }
 
     float pdf(const BSDFQueryRecord &bRec) const override {
-        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
-        if (bRec.measure != ESolidAngle || cosI <= 0.0f || cosO <= 0.0f)
+        if (!isFrontReflection(bRec))
             return 0.0f;
         const Material mat = materialAt(bRec);
         const Vector3f h = Vector3f(bRec.wi + bRec.wo).normalized();

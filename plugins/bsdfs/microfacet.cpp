@@ -32,9 +32,9 @@ public:
     }
 
     Color3f eval(const BSDFQueryRecord &bRec) const override {
-        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
-        if (bRec.measure != ESolidAngle || cosI <= 0.0f || cosO <= 0.0f)
+        if (!isFrontReflection(bRec))
             return Color3f(0.0f);
+        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
         const Lobes lobes = lobesAt(bRec);
         const Vector3f h = Vector3f(bRec.wi + bRec.wo).normalized();
         const float specular = lobes.distribution.D(h) *
@@ -44,9 +44,9 @@ public:
     }
 
     float pdf(const BSDFQueryRecord &bRec) const override {
-        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
-        if (bRec.measure != ESolidAngle || cosI <= 0.0f || cosO <= 0.0f)
+        if (!isFrontReflection(bRec))
             return 0.0f;
+        const float cosO = Frame::cosTheta(bRec.wo);
         const Lobes lobes = lobesAt(bRec);
         const Vector3f h = Vector3f(bRec.wi + bRec.wo).normalized();
         // Mixture of the lobes; the reflected direction's density is the normal's

@@ -29,9 +29,9 @@ public:
 
     Color3f eval(const BSDFQueryRecord &bRec) const override {
         const MicrofacetDistribution distribution = m_roughness.at(bRec);
-        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
-        if (bRec.measure != ESolidAngle || cosI <= 0.0f || cosO <= 0.0f)
+        if (!isFrontReflection(bRec))
             return Color3f(0.0f);
+        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
         const Vector3f h = Vector3f(bRec.wi + bRec.wo).normalized();
         return m_ior.fresnel(bRec, h.dot(bRec.wi)) *
                (distribution.D(h) * distribution.G(bRec.wi, bRec.wo, h) / (4.0f * cosI * cosO));
@@ -39,8 +39,7 @@ public:
 
     float pdf(const BSDFQueryRecord &bRec) const override {
         const MicrofacetDistribution distribution = m_roughness.at(bRec);
-        if (bRec.measure != ESolidAngle || Frame::cosTheta(bRec.wi) <= 0.0f ||
-            Frame::cosTheta(bRec.wo) <= 0.0f)
+        if (!isFrontReflection(bRec))
             return 0.0f;
         const Vector3f h = Vector3f(bRec.wi + bRec.wo).normalized();
         // Normal density times the reflection Jacobian 1/(4 |wo·h|) (Walter eq. 14).
