@@ -362,11 +362,13 @@ int infoCommand(const std::vector<std::string> &arguments) {
     fmt::print("file {}\nwidth {}\nheight {}\nlayers {}\n", file, image.size().x(),
                image.size().y(), fmt::join(shown, " "));
     for (const std::string &name : layers) {
+        const std::string prefix = name.empty() ? "" : name + ".";
         const std::vector<std::string> channelNames = image.channelsOf(name);
         std::vector<const LayeredImage::Channel *> channels;
+        channels.reserve(channelNames.size());
         for (const std::string &channel : channelNames)
-            channels.push_back(&image.channels().at(name.empty() ? channel : name + "." + channel));
-        printLayerStatistics(name.empty() ? "" : name + ".", channelNames, channels);
+            channels.push_back(&image.channels().at(prefix + channel));
+        printLayerStatistics(prefix, channelNames, channels);
     }
     return 0;
 }
