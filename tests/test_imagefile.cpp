@@ -179,6 +179,23 @@ TEST_CASE("Hostile image files end in an error naming the file", "[imagefile]") 
         CHECK_THAT(errorOf([&] { decodeImageFile(bytes, "chunk.exr"); }),
                    Contains("EXR image 'chunk.exr' is invalid"));
     }
+    SECTION("an EXR whose 'type' attribute is not 'scanlineimage' (tinyexr: assert, abort)") {
+        const std::string bytes =
+            exrBytes(floatPattern(4, 4), 4, 4, (dir.path() / "typed.exr").string());
+        // A string attribute inserted first in the header: name, type, size, value.
+        auto withType = [&](const std::string &value) {
+            const char size[4] = {static_cast<char>(value.size()), 0, 0, 0};
+            return bytes.substr(0, 8) + std::string("type\0string\0", 12) + std::string(size, 4) +
+                   value + bytes.substr(8);
+        };
+        for (const std::string value : {"deeptile", "3-6", "tiledimage"})
+            CHECK_THAT(errorOf([&] { decodeImageFile(withType(value), "typed.exr"); }),
+                       Contains("EXR image 'typed.exr': its type is '" + value + "'"));
+        // The one type a single-part scanline file may declare passes this check (the file
+        // fails later only because the insertion moved the chunks its offsets point to).
+        CHECK_THAT(errorOf([&] { decodeImageFile(withType("scanlineimage"), "typed.exr"); }),
+                   !Contains("its type is"));
+    }
     SECTION("truncations of every format") {
         const std::vector<std::pair<std::string, std::string>> files = {
             {"t.png", pngBytes(8, 8)},
