@@ -120,10 +120,75 @@ public:
     }
 
     Color3f eval(const BSDFQueryRecord &bRec) const override {
-        if (!isFrontReflection(bRec))
+        return isFrontReflection(bRec) ? evalAt(materialAt(bRec), bRec) : Color3f(0.0f);
+    }
+
+    float pdf(const BSDFQueryRecord &bRec) const override {
+        return isFrontReflection(bRec) ? pdfAt(materialAt(bRec), bRec) : 0.0f;
+    }
+
+    Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const override {
+        if (Frame::cosTheta(bRec.wi) <= 0.0f)
             return Color3f(0.0f);
-        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
+        bRec.measure = ESolidAngle;
+        bRec.eta = 1.0f;
+        // The textures are looked up once, for the choice, the value and the density.
         const Material mat = materialAt(bRec);
+        // Pick a strategy with the first coordinate and rescale it to [0, 1) for reuse.
+        float u = sample.x();
+        int strategy = 0;
+        while (strategy < 2 && u >= mat.selection[strategy]) {
+            u -= mat.selection[strategy];
+            ++strategy;
+        }
+        if (mat.selection[strategy] == 0.0f)
+            return Color3f(0.0f); // every lobe is off here
+        const Point2f reused(std::clamp(u / mat.selection[strategy], 0.0f, 1.0f - 1e-7f),
+                             sample.y());
+        if (strategy == 0)
+            bRec.wo = Warp::squareToCosineHemisphere(reused);
+        else if (strategy == 1)
+            bRec.wo = reflect(bRec.wi, mat.specularLobe.sampleNormal(bRec.wi, reused));
+        else
+            bRec.wo = reflect(bRec.wi, Warp::squareToGTR1(reused, mat.clearcoatAlpha));
+        if (Frame::cosTheta(bRec.wo) <= 0.0f)
+            return Color3f(0.0f);
+        // eval·cos θo/pdf, as BSDF::sampleWeight computes it, from this material.
+        const float density = pdfAt(mat, bRec);
+        return density > 0.0f ? Color3f(evalAt(mat, bRec) * (Frame::cosTheta(bRec.wo) / density))
+                              : Color3f(0.0f);
+    }
+
+    bool isDiffuse() const override { return true; }
+
+    std::string toString() const override {
+        std::string lobes;
+        for (int lobe = 0; lobe < LobeCount; ++lobe)
+            if (m_enabled[lobe])
+                lobes += (lobes.empty() ? "" : "+") + std::string(kLobeNames[lobe]);
+        return fmt::format(
+            "Disney[baseColor={}, metallic={}, subsurface={}, specular={}, specularTint={}, "
+            "roughness={}, anisotropic={}, sheen={}, sheenTint={}, clearcoat={}, "
+            "clearcoatGloss={}, lobes={}]",
+            m_baseColor->toString(), m_metallic->toString(), m_subsurface->toString(),
+            m_specular->toString(), m_specularTint->toString(), m_roughness->toString(),
+            m_anisotropic->toString(), m_sheen->toString(), m_sheenTint->toString(),
+            m_clearcoat->toString(), m_clearcoatGloss->toString(), lobes);
+    }
+
+private:
+    /// The parameters at one point, with what the lobes derive from them.
+    struct Material {
+        Color3f baseColor, specularColor, sheenColor;
+        float metallic, subsurface, roughness, sheen, clearcoat, clearcoatAlpha;
+        MicrofacetDistribution specularLobe;
+        /// Probabilities of the sampling strategies: cosine (diffuse and sheen), GTR2, GTR1.
+        std::array<float, 3> selection;
+    };
+
+    /// f for wi and wo both above the surface.
+    Color3f evalAt(const Material &mat, const BSDFQueryRecord &bRec) const {
+        const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
         const Vector3f h = Vector3f(bRec.wi + bRec.wo).normalized();
         const float cosD = h.dot(bRec.wi); // θd, the angle of either direction to h
         const float FH = schlickWeight(cosD);
@@ -155,10 +220,8 @@ public:
         return f;
     }
 
-    float pdf(const BSDFQueryRecord &bRec) const override {
-        if (!isFrontReflection(bRec))
-            return 0.0f;
-        const Material mat = materialAt(bRec);
+    /// The density of sample() for wi and wo both above the surface.
+    float pdfAt(const Material &mat, const BSDFQueryRecord &bRec) const {
         const Vector3f h = Vector3f(bRec.wi + bRec.wo).normalized();
         // A reflected direction's density is its half vector's density times the
         // Jacobian 1/(4 |wo·h|) (Walter et al. 2007, eq. 14).
@@ -172,61 +235,6 @@ public:
             density += mat.selection[2] * Warp::squareToGTR1Pdf(h, mat.clearcoatAlpha) * jacobian;
         return density;
     }
-
-    Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const override {
-        if (Frame::cosTheta(bRec.wi) <= 0.0f)
-            return Color3f(0.0f);
-        bRec.measure = ESolidAngle;
-        bRec.eta = 1.0f;
-        const Material mat = materialAt(bRec);
-        // Pick a strategy with the first coordinate and rescale it to [0, 1) for reuse.
-        float u = sample.x();
-        int strategy = 0;
-        while (strategy < 2 && u >= mat.selection[strategy]) {
-            u -= mat.selection[strategy];
-            ++strategy;
-        }
-        if (mat.selection[strategy] == 0.0f)
-            return Color3f(0.0f); // every lobe is off here
-        const Point2f reused(std::clamp(u / mat.selection[strategy], 0.0f, 1.0f - 1e-7f),
-                             sample.y());
-        if (strategy == 0)
-            bRec.wo = Warp::squareToCosineHemisphere(reused);
-        else if (strategy == 1)
-            bRec.wo = reflect(bRec.wi, mat.specularLobe.sampleNormal(bRec.wi, reused));
-        else
-            bRec.wo = reflect(bRec.wi, Warp::squareToGTR1(reused, mat.clearcoatAlpha));
-        if (Frame::cosTheta(bRec.wo) <= 0.0f)
-            return Color3f(0.0f);
-        return sampleWeight(bRec);
-    }
-
-    bool isDiffuse() const override { return true; }
-
-    std::string toString() const override {
-        std::string lobes;
-        for (int lobe = 0; lobe < LobeCount; ++lobe)
-            if (m_enabled[lobe])
-                lobes += (lobes.empty() ? "" : "+") + std::string(kLobeNames[lobe]);
-        return fmt::format(
-            "Disney[baseColor={}, metallic={}, subsurface={}, specular={}, specularTint={}, "
-            "roughness={}, anisotropic={}, sheen={}, sheenTint={}, clearcoat={}, "
-            "clearcoatGloss={}, lobes={}]",
-            m_baseColor->toString(), m_metallic->toString(), m_subsurface->toString(),
-            m_specular->toString(), m_specularTint->toString(), m_roughness->toString(),
-            m_anisotropic->toString(), m_sheen->toString(), m_sheenTint->toString(),
-            m_clearcoat->toString(), m_clearcoatGloss->toString(), lobes);
-    }
-
-private:
-    /// The parameters at one point, with what the lobes derive from them.
-    struct Material {
-        Color3f baseColor, specularColor, sheenColor;
-        float metallic, subsurface, roughness, sheen, clearcoat, clearcoatAlpha;
-        MicrofacetDistribution specularLobe;
-        /// Probabilities of the sampling strategies: cosine (diffuse and sheen), GTR2, GTR1.
-        std::array<float, 3> selection;
-    };
 
     Material materialAt(const TextureQuery &q) const {
         auto unit = [&q](const std::shared_ptr<const Texture> &t) {
