@@ -10,6 +10,11 @@ find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
 find_package(PNG REQUIRED)
 find_package(JPEG REQUIRED)
 find_package(Threads REQUIRED)
+# The HTTP server of the browser preview (nori --preview). Debian builds cpp-httplib as a
+# shared library whose classes change with its feature macros (OpenSSL, zlib, Brotli), so
+# its flags come from its pkg-config file rather than being guessed.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
 
 # stb's image writer is compiled once, here, with our own flags.
 add_library(nori_stb STATIC ${CMAKE_CURRENT_LIST_DIR}/stb_impl.cpp)
@@ -20,4 +25,5 @@ target_compile_options(nori_stb PRIVATE -w -fno-sanitize=shift)
 
 add_library(nori_ext INTERFACE)
 target_link_libraries(nori_ext INTERFACE Eigen3::Eigen pugixml::pugixml TBB::tbb fmt::fmt
-                      tinyexr::tinyexr nori_stb PNG::PNG JPEG::JPEG Threads::Threads)
+                      tinyexr::tinyexr nori_stb PNG::PNG JPEG::JPEG Threads::Threads
+                      PkgConfig::HTTPLIB)

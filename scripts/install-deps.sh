@@ -15,6 +15,7 @@ packages=(
     libtinyexr-dev          # EXR reading and writing
     libtbb-dev              # parallel render loop
     libfmt-dev              # message formatting
+    pkg-config libcpp-httplib-dev  # the HTTP server of the browser preview (--preview)
 )
 if [ "${1:-}" = "--test" ]; then
     packages+=(
@@ -23,6 +24,7 @@ if [ "${1:-}" = "--test" ]; then
         libclang-rt-14-dev  # ... and its libFuzzer, ASan and UBSan runtimes
         util-linux          # prlimit, for the out-of-memory case of the bad-input corpus
         slurm-wlm munge     # the split-render test's one-node Slurm cluster
+        chromium chromium-driver python3-selenium  # the preview's headless-browser test
     )
 elif [ -n "${1:-}" ]; then
     echo "usage: $0 [--test]" >&2

@@ -108,6 +108,16 @@ TEST_CASE("nori reports bad input files and options without crashing", "[cli]") 
     auto badValue = runNori({"--spp", "0", scene});
     CHECK(badValue.exitCode == 1);
     CHECK_THAT(badValue.output, Contains("--spp must be a positive integer"));
+
+    auto badPort = runNori({"--preview", "70000", scene});
+    CHECK(badPort.exitCode == 1);
+    CHECK_THAT(badPort.output, Contains("--preview PORT must lie in [1, 65535], got 70000"));
+    auto previewOfPluginTest = runNori({"--preview", "--test-plugin", "diffuse"});
+    CHECK(previewOfPluginTest.exitCode == 1);
+    CHECK_THAT(previewOfPluginTest.output, Contains("--preview shows a render or a test file"));
+    auto previewOfMerge = runNori({"merge", "a.exr", "-o", "b", "--preview-wait"});
+    CHECK(previewOfMerge.exitCode == 1);
+    CHECK_THAT(previewOfMerge.output, Contains("merge: --preview-wait applies to rendering"));
 }
 
 TEST_CASE("nori --list-plugins prints every plugin by kind", "[cli]") {

@@ -95,3 +95,11 @@ TEST_CASE("Did-you-mean finds names one edit away and ignores unrelated ones", "
     CHECK(closestMatch("x", {"y"}).empty()); // one edit, but nothing in common
     CHECK(editDistance("kitten", "sitting") == 3);
 }
+
+TEST_CASE("jsonString escapes quotes, backslashes and control characters (RFC 8259 §7)",
+          "[strutil]") {
+    CHECK(jsonString("cbox.xml") == "\"cbox.xml\"");
+    CHECK(jsonString("a \"b\" \\ c") == "\"a \\\"b\\\" \\\\ c\"");
+    CHECK(jsonString("line\nnext\ttab\x01") == "\"line\\nnext\\ttab\\u0001\"");
+    CHECK(jsonString("σ² ok") == "\"σ² ok\""); // UTF-8 passes through
+}

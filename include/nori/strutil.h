@@ -25,4 +25,8 @@ std::string closestMatch(const std::string &name, const std::vector<std::string>
 /// " (did you mean 'x'?)" or "" — for appending to error messages.
 std::string didYouMean(const std::string &name, const std::vector<std::string> &candidates);
 
+/// `text` as a JSON string literal, quotes included (RFC 8259 §7: ", \ and control
+/// characters escaped; UTF-8 passes through).
+std::string jsonString(const std::string &text);
+
 } // namespace nori

@@ -4,12 +4,16 @@
 
 #include <nori/object.h>
 
+#include <functional>
+
 namespace nori {
 
 /// How a test run leaves its pictures (χ² tests draw observed | expected | difference).
 struct TestOptions {
     std::string pictureFolder; ///< where pictures go; empty: no pictures
     bool allPictures = false;  ///< a picture of every case, not only of failing ones
+    /// Called with each picture's file and title once it is written (the preview shows it).
+    std::function<void(const std::string &file, const std::string &title)> pictureWritten;
 };
 
 class Test : public NoriObject {

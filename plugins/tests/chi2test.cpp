@@ -103,9 +103,11 @@ public:
                           ".png"))
                             .string();
                     std::filesystem::create_directories(testOptions.pictureFolder);
-                    renderChiSquareReport(report, subject->toString() + " " + condition)
-                        .savePNG(picture);
+                    const std::string title = subject->toString() + " " + condition;
+                    renderChiSquareReport(report, title).savePNG(picture);
                     std::cout << fmt::format("chi2test picture: {}\n", picture);
+                    if (testOptions.pictureWritten)
+                        testOptions.pictureWritten(picture, title);
                 }
                 passed += report.result.passed ? 1 : 0;
             }

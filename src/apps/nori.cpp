@@ -2,9 +2,11 @@
 #include <nori/aov.h>
 #include <nori/denoiser.h>
 #include <nori/filesystem.h>
+#include <nori/film.h>
 #include <nori/parser.h>
 #include <nori/plugindoc.h>
 #include <nori/plugintest.h>
+#include <nori/preview.h>
 #include <nori/program.h>
 #include <nori/progress.h>
 #include <nori/render.h>
@@ -37,6 +39,16 @@ extern "C" void onInterrupt(int) {
     g_interrupted.store(true);
 }
 
+/// Ctrl-C sets g_interrupted (a render then ends with the passes finished so far); a
+/// second one kills nori the usual way.
+void catchInterrupt() {
+    struct sigaction action {};
+    action.sa_handler = onInterrupt;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &action, nullptr);
+}
+
 const char *kUsage = R"(Usage: nori [options] <file.xml>
        nori merge PART.exr... -o OUT [--allow-missing] [--denoise] [--exposure E]
 
@@ -67,6 +79,14 @@ Options:
                      which way image x runs for cameras that do not say: epfl (x
                      mirrored, Nori 2's default) or eth (the ETH course's Nori)
   --no-progress      no progress bar
+  --preview [PORT]   show the render in a web browser while it runs: serves a page at
+                     http://127.0.0.1:PORT/ (default 8080, loopback only; from another
+                     machine: ssh -L 8080:127.0.0.1:8080 HOST) with the image after every
+                     pass, exposure, sRGB/linear, the AOV layers, spp, elapsed time, ETA and
+                     a Stop button that ends the render as Ctrl-C does (status 130); for a
+                     test file, the χ² picture of every case as it is drawn
+  --preview-wait     as --preview, and keep serving the final image after the render
+                     ends, until the page's Close button or Ctrl-C
   --list-plugins [KIND|NAME]
                      list the plugins (of one kind: bsdf, emitter, ...) with a line on
                      each, or print one plugin's parameters, defaults and examples
@@ -113,6 +133,8 @@ struct Options {
     bool pfm = false;
     bool denoise = false;
     bool showProgress = true;
+    std::optional<int> previewPort; ///< --preview: serve the live preview on this port
+    bool previewWait = false;
     float exposure = 0.0f;
     bool version = false;
     bool listPlugins = false;
@@ -153,8 +175,9 @@ Options parseCommandLine(int argc, char **argv) {
                 throw NoriException("option {} needs a value", flag);
             return argv[++i];
         };
-        static const std::set<std::string> kRenderOnly = {"--spp", "--time", "--aovs",
-                                                          "--pfm", "--part", "--camera-convention"};
+        static const std::set<std::string> kRenderOnly = {
+            "--spp",     "--time",        "--aovs", "--pfm", "--part", "--camera-convention",
+            "--preview", "--preview-wait"};
         if (kRenderOnly.count(arg) || arg.rfind("-D", 0) == 0)
             options.renderOnlyFlags.push_back(arg);
         if (arg == "-h" || arg == "--help") {
@@ -185,6 +208,17 @@ Options parseCommandLine(int argc, char **argv) {
             options.exposure = parseExposure(value(arg), arg);
         } else if (arg == "--no-progress") {
             options.showProgress = false;
+        } else if (arg == "--preview" || arg == "--preview-wait") {
+            options.previewWait = options.previewWait || arg == "--preview-wait";
+            if (!options.previewPort)
+                options.previewPort = kDefaultPreviewPort;
+            // An optional port: the next argument when it is a number.
+            if (i + 1 < argc && std::isdigit(static_cast<unsigned char>(argv[i + 1][0]))) {
+                options.previewPort = toInt(argv[++i], arg);
+                if (*options.previewPort < 1 || *options.previewPort > 65535)
+                    throw NoriException("{} PORT must lie in [1, 65535], got {}", arg,
+                                        *options.previewPort);
+            }
         } else if (arg == "-o" || arg == "--output") {
             options.output = value(arg);
         } else if (arg == "-t" || arg == "--threads") {
@@ -297,9 +331,10 @@ void writeDenoiserInputs(const LayeredImage &layers, const std::string &stem) {
     layers.layer("normal").savePFM(stem + "_normal.pfm");
 }
 
-/// Denoises a finished render into <stem>_denoised.exr/.png, beside the noisy image.
-void writeDenoised(const LayeredImage &layers, const std::string &stem, int threads,
-                   float exposure) {
+/// Denoises a finished render into <stem>_denoised.exr/.png, beside the noisy image, and
+/// returns the denoised image.
+Bitmap writeDenoised(const LayeredImage &layers, const std::string &stem, int threads,
+                     float exposure) {
     DenoiserSettings settings;
     settings.threads = threads;
     const auto start = std::chrono::steady_clock::now();
@@ -310,9 +345,12 @@ void writeDenoised(const LayeredImage &layers, const std::string &stem, int thre
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     fmt::print(stderr, "Denoised in {}; wrote {}_denoised.exr and {}_denoised.png\n",
                formatDuration(seconds), stem, stem);
+    return denoised;
 }
 
-int renderToFiles(Scene &scene, const Options &options, const std::string &hash) {
+/// Renders the scene into its output files; shows it on `preview` (may be null) too.
+int renderToFiles(Scene &scene, const Options &options, const std::string &hash,
+                  PreviewServer *preview) {
     const Vector2i size = scene.getCamera()->getOutputSize();
     RenderOptions renderOptions;
     renderOptions.threads = options.threads > 0 ? options.threads : defaultThreadCount();
@@ -348,6 +386,14 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash)
                    slice.first + slice.count - 1, hash);
     }
     fmt::print(stderr, "Scene: {}\n", scene.statisticsSummary());
+    if (preview) {
+        preview->beginRender(options.samplesPerPixel > 0 ? options.samplesPerPixel
+                                                         : scene.getSampler()->getSampleCount(),
+                             options.timeBudget);
+        renderOptions.passFinished = [preview](const Film &film, const PassReport &report) {
+            preview->publishPass(film.develop(), report);
+        };
+    }
     const uint64_t raysBefore = scene.rayCount();
     RenderResult result = options.part ? renderPart(scene, renderOptions, *options.part, hash,
                                                     fs::path(options.sceneFile).filename().string())
@@ -370,6 +416,9 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash)
                    "average\n",
                    result.convergedPixels, size.prod(),
                    static_cast<double>(result.samplesTaken) / size.prod());
+    if (preview && (result.cancelled || !options.denoise))
+        preview->finishRender(result.layers, result.cancelled, result.seconds,
+                              result.samplesPerPixel);
     if (result.cancelled && result.passes == 0) {
         fmt::print(stderr,
                    "Interrupted before the first pass finished: wrote a black frame to {}.exr "
@@ -396,8 +445,15 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash)
                rays / result.seconds * 1e-6, stem, stem);
     if (const std::string summary = scene.getIntegrator()->renderSummary(); !summary.empty())
         fmt::print(stderr, "{}\n", summary);
-    if (options.denoise)
-        writeDenoised(result.layers, stem, renderOptions.threads, options.exposure);
+    if (options.denoise) {
+        const Bitmap denoised =
+            writeDenoised(result.layers, stem, renderOptions.threads, options.exposure);
+        if (preview) {
+            result.layers.addLayer("denoised", {"R", "G", "B"}, denoised);
+            preview->finishRender(std::move(result.layers), false, result.seconds,
+                                  result.samplesPerPixel);
+        }
+    }
     return 0;
 }
 
@@ -424,6 +480,54 @@ int mergeCommand(const Options &options) {
     return 0;
 }
 
+/// Loads the scene or test file and renders or runs it; shows it on `preview` (may be null).
+int loadAndRun(const Options &options, PreviewServer *preview) {
+    LoadOptions loadOptions(options.defines);
+    loadOptions.cameraConvention = options.cameraConvention;
+    std::vector<std::string> unusedDefines;
+    loadOptions.unusedDefines = &unusedDefines;
+    std::optional<ReadFileRecorder> readFiles; // for the scene hash of a split render
+    if (options.part)
+        readFiles.emplace();
+    std::shared_ptr<NoriObject> root = loadFromXML(options.sceneFile, loadOptions);
+    const std::string hash =
+        readFiles ? sceneHash(readFiles->digests(), options.defines, options.cameraConvention)
+                  : std::string();
+    readFiles.reset();
+    for (const std::string &name : unusedDefines)
+        fmt::print(stderr, "Warning: -D {}={} is not used: {} has no ${}\n", name,
+                   options.defines.at(name), options.sceneFile, name);
+    if (auto test = std::dynamic_pointer_cast<Test>(root)) {
+        TestOptions testOptions;
+        testOptions.allPictures = options.pluginTest.allPictures;
+        testOptions.pictureFolder = options.pluginTest.pictureFolder;
+        if (testOptions.pictureFolder.empty()) {
+            // Next to the test file, as renders are.
+            const std::string folder = fs::path(options.sceneFile).parent_path().string();
+            testOptions.pictureFolder = folder.empty() ? "." : folder;
+        }
+        if (preview) {
+            // The pictures are what the preview is for: one of every case, as it is drawn.
+            testOptions.allPictures = true;
+            testOptions.pictureWritten = [preview](const std::string &file,
+                                                   const std::string &title) {
+                preview->addPicture(file, title);
+            };
+            preview->beginTest();
+        }
+        const bool passed = test->run(testOptions);
+        if (preview)
+            preview->finishTest(passed);
+        return passed ? 0 : 1;
+    }
+    if (auto scene = std::dynamic_pointer_cast<Scene>(root)) {
+        catchInterrupt();
+        return renderToFiles(*scene, options, hash, preview);
+    }
+    throw NoriException("{}: the root element must be a <scene> or a <test>, not a {}",
+                        options.sceneFile, NoriObject::classTypeName(root->getClassType()));
+}
+
 int run(int argc, char **argv) {
     NoriObjectFactory::checkRegistry();
     Options options = parseCommandLine(argc, argv);
@@ -443,6 +547,9 @@ int run(int argc, char **argv) {
         return 0;
     }
     if (options.testAllPlugins || !options.pluginsToTest.empty()) {
+        if (options.previewPort)
+            throw NoriException("--preview shows a render or a test file, not --test-plugin(s): "
+                                "give it the test file (e.g. scenes/tests/chi2test-bsdfs.xml)");
         if (options.pluginTest.pictureFolder.empty())
             options.pluginTest.pictureFolder = ".";
         const std::vector<std::string> names =
@@ -483,43 +590,37 @@ int run(int argc, char **argv) {
         throw NoriException("--denoise denoises a whole render: give it to `nori merge` instead "
                             "of to a part");
 
-    LoadOptions loadOptions(options.defines);
-    loadOptions.cameraConvention = options.cameraConvention;
-    std::vector<std::string> unusedDefines;
-    loadOptions.unusedDefines = &unusedDefines;
-    std::optional<ReadFileRecorder> readFiles; // for the scene hash of a split render
-    if (options.part)
-        readFiles.emplace();
-    std::shared_ptr<NoriObject> root = loadFromXML(options.sceneFile, loadOptions);
-    const std::string hash =
-        readFiles ? sceneHash(readFiles->digests(), options.defines, options.cameraConvention)
-                  : std::string();
-    readFiles.reset();
-    for (const std::string &name : unusedDefines)
-        fmt::print(stderr, "Warning: -D {}={} is not used: {} has no ${}\n", name,
-                   options.defines.at(name), options.sceneFile, name);
-    if (auto test = std::dynamic_pointer_cast<Test>(root)) {
-        TestOptions testOptions;
-        testOptions.allPictures = options.pluginTest.allPictures;
-        testOptions.pictureFolder = options.pluginTest.pictureFolder;
-        if (testOptions.pictureFolder.empty()) {
-            // Next to the test file, as renders are.
-            const std::string folder = fs::path(options.sceneFile).parent_path().string();
-            testOptions.pictureFolder = folder.empty() ? "." : folder;
-        }
-        return test->run(testOptions) ? 0 : 1;
+    // The preview starts before the scene loads, so a busy port is reported at once.
+    std::unique_ptr<PreviewServer> preview;
+    if (options.previewPort) {
+        preview = std::make_unique<PreviewServer>(
+            *options.previewPort, fs::path(options.sceneFile).filename().string(), &g_interrupted);
+        fmt::print(stderr, "Preview: {} (from another machine: ssh -L {}:127.0.0.1:{} HOST)\n",
+                   preview->url(), preview->port(), preview->port());
     }
-    if (auto scene = std::dynamic_pointer_cast<Scene>(root)) {
-        struct sigaction action {};
-        action.sa_handler = onInterrupt;
-        sigemptyset(&action.sa_mask);
-        // A second Ctrl-C kills the process the usual way.
-        action.sa_flags = SA_RESETHAND;
-        sigaction(SIGINT, &action, nullptr);
-        return renderToFiles(*scene, options, hash);
+    int status = 0;
+    try {
+        status = loadAndRun(options, preview.get());
+    } catch (const std::bad_alloc &) {
+        throw; // runProgram words it
+    } catch (const std::exception &error) {
+        if (!preview)
+            throw;
+        preview->fail(error.what());
+        fmt::print(stderr, "Error: {}\n", error.what());
+        status = 1;
     }
-    throw NoriException("{}: the root element must be a <scene> or a <test>, not a {}",
-                        options.sceneFile, NoriObject::classTypeName(root->getClassType()));
+    if (preview && options.previewWait) {
+        // Keep serving the final image: Ctrl-C or the page's Close button ends nori.
+        g_interrupted.store(false);
+        catchInterrupt();
+        fmt::print(stderr,
+                   "Preview: still serving {}; Ctrl-C or the page's Close button ends "
+                   "nori\n",
+                   preview->url());
+        preview->waitForStop();
+    }
+    return status;
 }
 
 } // namespace

@@ -103,4 +103,30 @@ std::string didYouMean(const std::string &name, const std::vector<std::string> &
     return match.empty() ? "" : fmt::format(" (did you mean '{}'?)", match);
 }
 
+std::string jsonString(const std::string &text) {
+    std::string quoted = "\"";
+    for (const char c : text) {
+        switch (c) {
+        case '"':
+            quoted += "\\\"";
+            break;
+        case '\\':
+            quoted += "\\\\";
+            break;
+        case '\n':
+            quoted += "\\n";
+            break;
+        case '\t':
+            quoted += "\\t";
+            break;
+        default:
+            if (static_cast<unsigned char>(c) < 0x20)
+                quoted += fmt::format("\\u{:04x}", static_cast<unsigned char>(c));
+            else
+                quoted += c;
+        }
+    }
+    return quoted + '"';
+}
+
 } // namespace nori
