@@ -33,6 +33,8 @@ constexpr int kDefaultPreviewPort = 8080;
 /// (127.0.0.1, localhost, [::1]) is refused with 403, so that a web page elsewhere cannot
 /// reach the server through DNS rebinding; the custom header of /stop makes a browser ask
 /// before sending it from another origin (a CORS preflight, which gets a 404).
+class Film;
+
 class PreviewServer {
 public:
     /// Serves on 127.0.0.1:port (0: any free port) from a thread of its own. `stop` is the
@@ -47,8 +49,16 @@ public:
 
     /// A render of `targetSpp` samples per pixel starts (timeBudget in seconds, 0: none).
     void beginRender(size_t targetSpp, double timeBudget);
-    /// A pass has finished: `image` (the film developed so far) replaces the last one.
+    /// A pass has finished: the film is developed and replaces the last image, unless the
+    /// last develop took more than 1% of the time since the last publish. Every worker
+    /// waits while a pass is developed, so this keeps the wait within 1% of the render
+    /// however short its passes are (the last pass still reaches the page: finishRender).
+    void passFinished(const Film &film, const PassReport &report);
+    /// Publishes `image` as the latest pass's (what passFinished does after developing).
     void publishPass(LayeredImage image, const PassReport &report);
+    /// What being watched cost a render of `seconds` on `threads` workers: the develop
+    /// waits and the server threads' CPU time, as one line for the end of the render.
+    std::string costSummary(double seconds, int threads) const;
     /// The render has ended; `image` is its final image (with any layers added since, such
     /// as the denoised one). `stopped`: cancelled by /stop or Ctrl-C.
     void finishRender(LayeredImage image, bool stopped, double seconds, size_t spp);
@@ -60,6 +70,11 @@ public:
 
     /// Something went wrong before or during the render (the page shows `message`).
     void fail(const std::string &message);
+
+    /// CPU time the server's threads (the HTTP pool and its listener) have used so far:
+    /// the render's cost of being watched, besides developing the passes (Linux's
+    /// /proc/self/task/*/schedstat; 0 where that is missing).
+    double serverCpuSeconds() const;
 
     /// Blocks until the stop flag is set (by /stop or by the caller's Ctrl-C handler).
     void waitForStop() const;

@@ -2,7 +2,6 @@
 #include <nori/aov.h>
 #include <nori/denoiser.h>
 #include <nori/filesystem.h>
-#include <nori/film.h>
 #include <nori/parser.h>
 #include <nori/plugindoc.h>
 #include <nori/plugintest.h>
@@ -391,7 +390,7 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash,
                                                          : scene.getSampler()->getSampleCount(),
                              options.timeBudget);
         renderOptions.passFinished = [preview](const Film &film, const PassReport &report) {
-            preview->publishPass(film.develop(), report);
+            preview->passFinished(film, report);
         };
     }
     const uint64_t raysBefore = scene.rayCount();
@@ -416,6 +415,9 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash,
                    "average\n",
                    result.convergedPixels, size.prod(),
                    static_cast<double>(result.samplesTaken) / size.prod());
+    if (preview)
+        fmt::print(stderr, "Preview: {}\n",
+                   preview->costSummary(result.seconds, renderOptions.threads));
     if (preview && (result.cancelled || !options.denoise))
         preview->finishRender(result.layers, result.cancelled, result.seconds,
                               result.samplesPerPixel);

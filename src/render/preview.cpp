@@ -1,11 +1,14 @@
 #include <nori/common.h>
+#include <nori/film.h>
 #include <nori/preview.h>
 #include <nori/strutil.h>
 
 #include <httplib.h>
+#include <pthread.h>
 #include <sys/socket.h>
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <mutex>
@@ -28,6 +31,18 @@ bool isLoopbackHost(const std::string &host) {
     return name == "127.0.0.1" || name == "localhost" || name == "[::1]";
 }
 
+/// The name of the server's threads, by which serverCpuSeconds() finds them.
+constexpr const char *kThreadName = "nori-preview";
+
+/// Names the calling thread kThreadName (once per thread).
+void nameThisThread() {
+    thread_local bool named = false;
+    if (!named) {
+        pthread_setname_np(pthread_self(), kThreadName);
+        named = true;
+    }
+}
+
 /// One picture of a test: the PNG file's bytes, read when it is added.
 struct Picture {
     std::string title;
@@ -39,6 +54,7 @@ struct Picture {
 struct PreviewServer::State {
     httplib::Server server;
     std::thread thread;
+    std::atomic<bool> listenReturned{false};
     int port = 0;
     std::string title;
     std::atomic<bool> *stop = nullptr;
@@ -52,6 +68,11 @@ struct PreviewServer::State {
     PassReport report;
     double timeBudget = 0.0;
     std::vector<Picture> pictures;
+    // The cost of publishing passes (touched by the render's thread only).
+    double developSeconds = 0.0;     ///< in all
+    double lastDevelopSeconds = 0.0; ///< of the last pass published
+    std::chrono::steady_clock::time_point lastPublish{};
+    size_t passesPublished = 0, passesFinished = 0;
     /// Steady-clock time of the render's start, for the elapsed time shown while a pass
     /// is under way.
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
@@ -165,6 +186,7 @@ PreviewServer::PreviewServer(int port, std::string title, std::atomic<bool> *sto
     s.server.new_task_queue = [] { return new httplib::ThreadPool(4); };
     s.server.set_pre_routing_handler(
         [](const httplib::Request &request, httplib::Response &response) {
+            nameThisThread();
             if (isLoopbackHost(request.get_header_value("Host")))
                 return httplib::Server::HandlerResponse::Unhandled;
             response.status = 403;
@@ -211,7 +233,15 @@ PreviewServer::PreviewServer(int port, std::string title, std::atomic<bool> *sto
         throw NoriException("--preview: cannot serve on 127.0.0.1:{}: {} (is another nori or "
                             "server using it? give another port: --preview PORT)",
                             port, std::strerror(errno));
-    s.thread = std::thread([&s] { s.server.listen_after_bind(); });
+    s.thread = std::thread([&s] {
+        nameThisThread();
+        s.server.listen_after_bind();
+        s.listenReturned = true;
+    });
+    // Server::stop() does nothing before the accept loop runs, so a server destroyed at
+    // once would leave the loop running and its thread unjoinable: wait until it runs.
+    while (!s.server.is_running() && !s.listenReturned)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
 }
 
 PreviewServer::~PreviewServer() {
@@ -236,6 +266,30 @@ void PreviewServer::beginRender(size_t targetSpp, double timeBudget) {
     m_state->report.targetSamplesPerPixel = targetSpp;
     m_state->timeBudget = timeBudget;
     m_state->start = std::chrono::steady_clock::now();
+}
+
+void PreviewServer::passFinished(const Film &film, const PassReport &report) {
+    State &s = *m_state;
+    ++s.passesFinished;
+    const auto start = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(start - s.lastPublish).count() < 100.0 * s.lastDevelopSeconds)
+        return;
+    publishPass(film.develop(), report);
+    s.lastPublish = std::chrono::steady_clock::now();
+    s.lastDevelopSeconds = std::chrono::duration<double>(s.lastPublish - start).count();
+    s.developSeconds += s.lastDevelopSeconds;
+    ++s.passesPublished;
+}
+
+std::string PreviewServer::costSummary(double seconds, int threads) const {
+    const double cpuSeconds = seconds * threads, serverSeconds = serverCpuSeconds();
+    return fmt::format("developing {} of {} passes took {:.0f} ms, the server used {:.0f} ms of "
+                       "CPU: {:.2f}% of the render's {:.1f} CPU-seconds",
+                       m_state->passesPublished, m_state->passesFinished,
+                       m_state->developSeconds * 1e3, serverSeconds * 1e3,
+                       100.0 * (m_state->developSeconds * threads + serverSeconds) /
+                           std::max(cpuSeconds, 1e-9),
+                       cpuSeconds);
 }
 
 void PreviewServer::publishPass(LayeredImage image, const PassReport &report) {
@@ -283,6 +337,20 @@ void PreviewServer::fail(const std::string &message) {
     std::lock_guard<std::mutex> lock(m_state->mutex);
     m_state->state = "failed";
     m_state->message = message;
+}
+
+double PreviewServer::serverCpuSeconds() const {
+    // /proc/self/task/<tid>/schedstat starts with the thread's time on a CPU in ns.
+    double seconds = 0.0;
+    std::error_code error;
+    for (const auto &task : std::filesystem::directory_iterator("/proc/self/task", error)) {
+        std::ifstream comm(task.path() / "comm"), schedstat(task.path() / "schedstat");
+        std::string name;
+        double nanoseconds = 0.0;
+        if (std::getline(comm, name) && name == kThreadName && schedstat >> nanoseconds)
+            seconds += nanoseconds * 1e-9;
+    }
+    return seconds;
 }
 
 void PreviewServer::waitForStop() const {
