@@ -107,6 +107,18 @@ TEST_CASE("EXR files round-trip exactly; PNG within 8-bit quantisation", "[image
         for (int x = 0; x < 5; ++x)
             CHECK((loaded(y, x) == image(y, x)).all());
 
+    // RGBA, as Blender and most tools write them: the colour loads, alpha is ignored.
+    LayeredImage rgba(Eigen::Vector2i(5, 3));
+    rgba.addLayer("", {"R", "G", "B"}, image);
+    rgba.addChannel("A", LayeredImage::Channel::Constant(3, 5, 0.5f));
+    CHECK(rgba.channelsOf("") == std::vector<std::string>{"R", "G", "B", "A"});
+    const std::string rgbaFile = (dir.path() / "rgba.exr").string();
+    rgba.saveEXR(rgbaFile);
+    const Bitmap colour = Bitmap::load(rgbaFile);
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x)
+            CHECK((colour(y, x) == image(y, x)).all());
+
     const std::string png = (dir.path() / "image.png").string();
     image.savePNG(png);
     Bitmap fromPng = Bitmap::load(png);

@@ -367,12 +367,14 @@ private:
 // ---------------------------------------------------------------------------------- EXR
 
 /// The R, G and B channels of the first layer that has them (the beauty, "R", "G", "B",
-/// sorts first), or a single channel as grey.
+/// sorts first; an alpha channel beside them is ignored), or a single channel as grey.
 ImageFile decodeExr(const std::string &bytes, const std::string &name, std::size_t maxPixels) {
     const LayeredImage layered = decodeLayeredEXR(bytes, name, maxPixels);
-    for (const std::string &layer : layered.layerNames())
-        if (layered.channelsOf(layer) == std::vector<std::string>{"R", "G", "B"})
+    for (const std::string &layer : layered.layerNames()) {
+        const std::vector<std::string> channels = layered.channelsOf(layer);
+        if (channels.size() >= 3 && channels[0] == "R" && channels[1] == "G" && channels[2] == "B")
             return {layered.layer(layer), false};
+    }
     if (layered.channels().size() == 1)
         return {layered.layer(layered.layerNames().front()), false};
     throw NoriException("EXR image '{}' has no R, G and B channels (and is not a one-channel "

@@ -67,14 +67,25 @@ std::vector<std::string> LayeredImage::channelsOf(const std::string &layer) cons
     for (const auto &[name, values] : m_channels)
         if (layerOf(name) == layer)
             names.push_back(layer.empty() ? name : name.substr(layer.size() + 1));
-    // Colour channels in R, G, B order (sorted by name, they are B, G, R).
-    if (names == std::vector<std::string>{"B", "G", "R"})
-        names = {"R", "G", "B"};
-    return names;
+    // Colour channels first, in R, G, B order (sorted by name, they are B, G, R), then the
+    // others (A of an RGBA image) in name order.
+    std::vector<std::string> ordered;
+    for (const char *colour : {"R", "G", "B"})
+        if (std::find(names.begin(), names.end(), colour) != names.end())
+            ordered.push_back(colour);
+    if (ordered.size() != 3)
+        return names;
+    for (const std::string &name : names)
+        if (name != "R" && name != "G" && name != "B")
+            ordered.push_back(name);
+    return ordered;
 }
 
 Bitmap LayeredImage::layer(const std::string &layer) const {
-    const std::vector<std::string> names = channelsOf(layer);
+    std::vector<std::string> names = channelsOf(layer);
+    // An RGBA layer shows its colour; alpha is not part of the radiance.
+    if (names.size() > 3 && names[0] == "R" && names[1] == "G" && names[2] == "B")
+        names.resize(3);
     if (names.empty() || names.size() > 3) {
         std::vector<std::string> layers;
         for (const std::string &name : layerNames())
