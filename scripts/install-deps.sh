@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages needed to build and render, skipping those already
 # installed (so it is quick to run again). Run as root or with sudo.
 #   scripts/install-deps.sh          what building and rendering need
-#   scripts/install-deps.sh --test   also the test tools: Catch2, clang with libFuzzer, Slurm
+#   scripts/install-deps.sh --test   also the test tools: Catch2, clang with libFuzzer, Slurm,
+#                                    Chromium, Blender
 set -euo pipefail
 
 packages=(
@@ -25,6 +26,7 @@ if [ "${1:-}" = "--test" ]; then
         util-linux          # prlimit, for the out-of-memory case of the bad-input corpus
         slurm-wlm munge     # the split-render test's one-node Slurm cluster
         chromium chromium-driver python3-selenium  # the preview's headless-browser test
+        blender             # the exporter's test: Blender builds, exports and renders (Cycles)
     )
 elif [ -n "${1:-}" ]; then
     echo "usage: $0 [--test]" >&2
