@@ -342,9 +342,7 @@ class Exporter:
                 loop_normal = lambda loop: mesh.loops[loop].normal
             else:
                 loop_normal = lambda loop: mesh.corner_normals[loop].vector
-            uv_layer = mesh.uv_layers.active
-            if uv_layer is None:
-                self.warn(owner, "has no uv map: exported without uv")
+            uv_layer = mesh.uv_layers.active  # without one, nori's default uv serve
             groups = {}
             for triangle in mesh.loop_triangles:
                 groups.setdefault(triangle.material_index, []).append(triangle)
