@@ -210,11 +210,11 @@ def compare(sums, tolerance_of, reference_name="Cycles"):
     """Messages of the objects whose mean luminance differs beyond their tolerance."""
     failures = []
     for name, tolerance in tolerance_of.items():
-        nori_sum, cycles_sum, count = sums.get(name, (0.0, 0.0, 0))
+        image_sum, reference_sum, count = sums.get(name, (0.0, 0.0, 0))
         check(count >= 30, f"{name}: {count} pixels inside its mask")
-        ratio = nori_sum / cycles_sum
-        message = (f"{name}: mean luminance {nori_sum / count:.4f}, {reference_name} "
-                   f"{cycles_sum / count:.4f} (ratio {ratio:.4f}, within {tolerance:.0%})")
+        ratio = image_sum / reference_sum
+        message = (f"{name}: mean luminance {image_sum / count:.4f}, {reference_name} "
+                   f"{reference_sum / count:.4f} (ratio {ratio:.4f}, within {tolerance:.0%})")
         print(("  " if abs(ratio - 1) <= tolerance else "  MISMATCH: ") + message, flush=True)
         if abs(ratio - 1) > tolerance:
             failures.append(message)
