@@ -50,10 +50,15 @@ public:
 
     /// Builds over primitives with the given bounds (primitive i has bounds[i]).
     /// Primitives with empty or non-finite bounds are left out and counted.
-    void build(const std::vector<BoundingBox3f> &bounds);
+    /// `intersectionCost` is a primitive test's cost in units of a box test (an instance,
+    /// whose test is a whole traversal, costs more than a triangle).
+    void build(const std::vector<BoundingBox3f> &bounds, float intersectionCost = kIntersectionCost);
 
     /// Leaf slot -> index of the primitive passed to build().
     const std::vector<uint32_t> &primitiveOrder() const { return m_primitiveOrder; }
+    /// Hands over primitiveOrder() once the caller has put its data in leaf order; the
+    /// tree no longer needs it.
+    std::vector<uint32_t> takePrimitiveOrder() { return std::move(m_primitiveOrder); }
     const BVHNode &node(size_t index) const { return m_nodes[index]; }
     size_t nodeCount() const { return m_nodes.size(); }
     const BVHBuildStatistics &statistics() const { return m_statistics; }

@@ -1,7 +1,7 @@
 // The root object of a render: shapes, integrator, camera and sampler.
 #pragma once
 
-#include <nori/accel.h>
+#include <nori/instance.h>
 #include <nori/camera.h>
 #include <nori/dpdf.h>
 #include <nori/emitter.h>
@@ -23,8 +23,11 @@ public:
     Integrator *getIntegrator() { return m_integrator.get(); }
     const Camera *getCamera() const { return m_camera.get(); }
     const Sampler *getSampler() const { return m_sampler.get(); }
-    const std::vector<std::shared_ptr<Shape>> &getShapes() const { return m_shapes; }
-    const BoundingBox3f &getBoundingBox() const { return m_accel.getBoundingBox(); }
+    /// Every shape in the scene itself (not those in shape groups), with invisible ones.
+    const std::vector<std::shared_ptr<Shape>> &getShapes() const { return m_contents.shapes(); }
+    const BoundingBox3f &getBoundingBox() const { return m_contents.accel().getBoundingBox(); }
+    /// The acceleration structure over shapes and instances.
+    const Accel &getAccel() const { return m_contents.accel(); }
     /// Every light: area lights of shapes and the scene's own (point) lights.
     const std::vector<std::shared_ptr<Emitter>> &getEmitters() const { return m_emitters; }
 
@@ -51,7 +54,8 @@ public:
     /// Rays traced through rayIntersect so far, over all threads.
     uint64_t rayCount() const;
     /// "3 shapes (1,024 triangles), 2 emitters; BVH of 1,026 primitives built in 4 ms",
-    /// what nori prints before rendering (Nori and pbrt print the same).
+    /// and the instances when there are any: what nori prints before rendering (Nori and
+    /// pbrt print the same).
     std::string statisticsSummary() const;
 
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
@@ -62,7 +66,7 @@ public:
     EClassType getClassType() const override { return kClassType; }
 
 private:
-    std::vector<std::shared_ptr<Shape>> m_shapes;
+    ShapeCollection m_contents;
     std::vector<std::shared_ptr<Emitter>> m_emitters;
     std::vector<const Emitter *> m_infiniteEmitters;
     DiscretePDF m_emitterPdf;
@@ -70,7 +74,6 @@ private:
     std::shared_ptr<Integrator> m_integrator;
     std::shared_ptr<Camera> m_camera;
     std::shared_ptr<Sampler> m_sampler;
-    Accel m_accel;
     double m_buildSeconds = 0.0;
     bool m_needsRayDifferentials = false;
     struct RayCounter; ///< a count per thread (TBB), summed when asked

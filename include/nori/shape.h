@@ -12,6 +12,7 @@ namespace nori {
 class BSDF;
 class Emitter;
 class Shape;
+class TMeshSet;
 
 /// A point sampled on a shape's surface.
 struct ShapeSample {
@@ -94,6 +95,12 @@ public:
     /// The solid-angle density at ref of sampleFromReference producing (p, n).
     virtual float pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const;
 
+    /// Whether the shape renders itself (`visible`, default true): an invisible shape is
+    /// a template that only its tmesh copies place.
+    bool isVisible() const { return m_visible; }
+    /// The shape's <mesh type="tmesh"> copies, or nullptr without any.
+    const std::shared_ptr<TMeshSet> &tmeshes() const { return m_tmeshes; }
+
     const BoundingBox3f &getBoundingBox() const { return m_bbox; }
     const BSDF *getBSDF() const { return m_bsdf.get(); }
     std::shared_ptr<BSDF> getBSDFPtr() const { return m_bsdf; }
@@ -101,9 +108,11 @@ public:
     const Emitter *getEmitter() const { return m_emitter.get(); }
     std::shared_ptr<Emitter> getEmitterPtr() const { return m_emitter; }
 
-    /// Accepts one <bsdf> and one <emitter> (which becomes an area light on the shape).
+    /// Accepts one <bsdf>, one <emitter> (which becomes an area light on the shape) and
+    /// any number of <mesh type="tmesh"> copies.
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
-    /// Gives a shape without a BSDF the default diffuse one (Nori's behaviour).
+    /// Gives a shape without a BSDF the default diffuse one (Nori's behaviour); builds
+    /// the tmesh copies' shared Accel. Area lights on copied shapes are refused.
     void activate() override;
 
     EClassType getClassType() const override { return kClassType; }
@@ -113,6 +122,8 @@ protected:
     /// a `normal` texture (tangent space, decoded as 2c − 1) or a `bump` texture (a
     /// height, scaled by `bumpScale`). Shape plugins call it from their constructor.
     void readSurfaceParameters(const PropertyList &props);
+    /// Takes over another shape's uvScale and normal or bump map (for views of it).
+    void copySurfaceParameters(const Shape &other);
 
     BoundingBox3f m_bbox;
     Vector2f m_uvScale = Vector2f(1.0f, 1.0f);
@@ -120,6 +131,8 @@ protected:
     float m_bumpScale = 1.0f;
     std::shared_ptr<BSDF> m_bsdf;
     std::shared_ptr<Emitter> m_emitter;
+    bool m_visible = true;
+    std::shared_ptr<TMeshSet> m_tmeshes;
 };
 
 } // namespace nori

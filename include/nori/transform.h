@@ -53,4 +53,45 @@ private:
     Eigen::Matrix4f m_inverse;
 };
 
+/// An affine map x ↦ A·x + b kept as its 3×4 matrix [A | b]: 48 bytes, what an instance
+/// stores of its placement (a Transform, with its projective row and inverse, is 128).
+class AffineMap {
+public:
+    using Matrix = Eigen::Matrix<float, 3, 4, Eigen::DontAlign>;
+
+    AffineMap() : m_matrix(Matrix::Identity()) {}
+    explicit AffineMap(const Matrix &matrix) : m_matrix(matrix) {}
+    /// The map of a transform's matrix; throws when its last row is not (0, 0, 0, 1).
+    static AffineMap of(const Eigen::Matrix4f &matrix);
+
+    /// The inverse, computed in double precision and rounded once.
+    AffineMap inverse() const;
+    /// Composition: (a * b) applies b first, then a.
+    AffineMap operator*(const AffineMap &other) const;
+
+    Point3f applyToPoint(const Point3f &p) const {
+        return Point3f(m_matrix.leftCols<3>() * p + m_matrix.col(3));
+    }
+    Vector3f applyToVector(const Vector3f &v) const {
+        return Vector3f(m_matrix.leftCols<3>() * v);
+    }
+    /// A normal under the inverse of this map: Aᵀ·n (the inverse transpose of A⁻¹), so
+    /// a map to local space carries local normals to world ones (pbrt-v4 §3.10.3).
+    Vector3f applyTransposeToNormal(const Vector3f &n) const {
+        return Vector3f(m_matrix.leftCols<3>().transpose() * n);
+    }
+    /// Bound on the rounding error of applyToPoint(p) for an exact p (pbrt-v4 §6.8.4:
+    /// γ₃·(|A|·|p| + |b|) per component).
+    Vector3f roundingError(const Point3f &p) const;
+    /// Bound on the error of applyToPoint(p) for p known within ±pError (pbrt-v4 §6.8.4:
+    /// (1 + γ₃)·|A|·pError on top of the rounding error).
+    Vector3f propagatedError(const Point3f &p, const Vector3f &pError) const;
+
+    const Matrix &matrix() const { return m_matrix; }
+
+private:
+    Matrix m_matrix;
+};
+static_assert(sizeof(AffineMap) == 48, "an affine map is twelve floats");
+
 } // namespace nori

@@ -13,6 +13,10 @@
  *                                     tangents follow dp/du, smoothed per vertex)
  *   bump       texture    —           height map for bump mapping (instead of normal)
  *   bumpScale  float      1           the heights are scaled by this
+ *   visible    boolean    true        false: the mesh is only a template that its tmesh
+ *                                     children copy (course exporters write one)
+ *
+ * Children: a <bsdf>, an <emitter> (an area light), and <mesh type="tmesh"> copies.
  *
  *   <mesh type="obj">
  *       <string name="filename" value="scenes/cbox/meshes/floor.obj"/>

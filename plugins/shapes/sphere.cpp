@@ -16,6 +16,8 @@
  *   normal       texture  —          tangent-space normal map (decoded as 2c − 1)
  *   bump         texture  —          height map for bump mapping (instead of normal)
  *   bumpScale    float    1          the heights are scaled by this
+ *   visible      boolean  true       false: the shape is only a template that its
+ *                                    tmesh children copy
  *
  *   <mesh type="sphere">
  *       <point name="center" value="0, 1, 0"/> <float name="radius" value="0.5"/>

@@ -444,7 +444,13 @@ private:
 
         ObjectFrame frame;
         frame.isScene = classType == NoriObject::EScene;
+        // While its content is read, the element's id names an object not yet made: a
+        // <ref> to it from inside would make the object contain itself.
+        if (attributes.count("id"))
+            m_openIds.emplace_back(attributes["id"], location);
         parseChildren(file, node, &frame, nullptr);
+        if (attributes.count("id"))
+            m_openIds.pop_back();
         if (classType == NoriObject::ECamera && !m_cameraConvention.empty() &&
             !frame.props.contains("convention"))
             frame.props.set("convention", m_cameraConvention, "command line (--camera-convention)");
@@ -516,6 +522,12 @@ private:
 
     void parseRef(const std::string &location, std::map<std::string, std::string> &attributes,
                   ObjectFrame &frame) {
+        for (const auto &[openId, openLocation] : m_openIds)
+            if (openId == attributes["id"])
+                throw LocatedError(location,
+                                   fmt::format("<ref> to '{}' inside the element with that id "
+                                               "(at {}): an object cannot contain itself (a cycle)",
+                                               openId, openLocation));
         auto it = m_ids.find(attributes["id"]);
         if (it == m_ids.end()) {
             std::vector<std::string> known;
@@ -616,6 +628,7 @@ private:
     std::string m_cameraConvention;
     std::map<std::string, std::pair<std::shared_ptr<NoriObject>, std::string>> m_ids;
     std::vector<std::string> m_includeStack;
+    std::vector<std::pair<std::string, std::string>> m_openIds; ///< (id, location) of open elements
     std::list<SourceFile> m_files; ///< kept alive: locations refer to them
     int m_depth = 0;               ///< of the element being parsed, across includes
 };

@@ -1,3 +1,4 @@
+#include <nori/rayerror.h>
 #include <nori/transform.h>
 
 #include <Eigen/LU>
@@ -67,6 +68,35 @@ std::string Transform::toString() const {
     std::ostringstream out;
     out << m_transform.format(Eigen::IOFormat(4, 0, ", ", ";\n", "", "", "[", "]"));
     return out.str();
+}
+
+AffineMap AffineMap::of(const Eigen::Matrix4f &matrix) {
+    if (matrix.row(3) != Eigen::RowVector4f(0.0f, 0.0f, 0.0f, 1.0f))
+        throw NoriException("the transform must be affine (last row 0 0 0 1), not projective");
+    return AffineMap(matrix.topRows<3>());
+}
+
+AffineMap AffineMap::inverse() const {
+    Eigen::Matrix4d full = Eigen::Matrix4d::Identity();
+    full.topRows<3>() = m_matrix.cast<double>();
+    return AffineMap(full.inverse().topRows<3>().cast<float>());
+}
+
+AffineMap AffineMap::operator*(const AffineMap &other) const {
+    Matrix result;
+    result.leftCols<3>() = m_matrix.leftCols<3>() * other.m_matrix.leftCols<3>();
+    result.col(3) = m_matrix.leftCols<3>() * other.m_matrix.col(3) + m_matrix.col(3);
+    return AffineMap(result);
+}
+
+Vector3f AffineMap::roundingError(const Point3f &p) const {
+    return gammaBound(3) *
+           Vector3f(m_matrix.leftCols<3>().cwiseAbs() * p.cwiseAbs() + m_matrix.col(3).cwiseAbs());
+}
+
+Vector3f AffineMap::propagatedError(const Point3f &p, const Vector3f &pError) const {
+    return (1.0f + gammaBound(3)) * Vector3f(m_matrix.leftCols<3>().cwiseAbs() * pError) +
+           roundingError(p);
 }
 
 } // namespace nori

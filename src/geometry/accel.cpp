@@ -9,9 +9,66 @@
 
 namespace nori {
 
+namespace {
+
+/// The box around a box's eight corners mapped by toWorld.
+BoundingBox3f transformedBounds(const BoundingBox3f &box, const AffineMap &toWorld) {
+    BoundingBox3f result;
+    for (int corner = 0; corner < 8; ++corner) {
+        const Point3f p((corner & 1) ? box.max.x() : box.min.x(),
+                        (corner & 2) ? box.max.y() : box.min.y(),
+                        (corner & 4) ? box.max.z() : box.min.z());
+        result.expandBy(toWorld.applyToPoint(p));
+    }
+    return result;
+}
+
+/// Carries a hit found in an instance's space to world space. Points and tangents go by
+/// toWorld, normals by the transpose of toLocal (the inverse transpose of toWorld), so
+/// they stay perpendicular under non-uniform scale; t is the same parameter in both.
+void hitToWorld(const AffineMap &toWorld, const AffineMap &toLocal, Intersection &its) {
+    const Point3f localP = its.p;
+    its.p = toWorld.applyToPoint(localP);
+    // toWorld is the rounded inverse of toLocal: one rounding (γ₁ ≈ γ₃/3) more than
+    // pbrt's bound for an exact matrix.
+    its.pError = toWorld.propagatedError(localP, its.pError) + toWorld.roundingError(localP) / 3.0f;
+
+    const Vector3f geoNormal = toLocal.applyTransposeToNormal(its.geoFrame.n).normalized();
+    its.geoFrame = Frame(geoNormal);
+    const Vector3f shadingNormal = toLocal.applyTransposeToNormal(its.shFrame.n).normalized();
+    Vector3f tangent = toWorld.applyToVector(its.shFrame.s);
+    tangent -= shadingNormal * shadingNormal.dot(tangent);
+    its.shFrame = tangent.squaredNorm() > 1e-20f
+                      ? Frame(tangent.normalized(), shadingNormal.cross(tangent.normalized()),
+                              shadingNormal)
+                      : Frame(shadingNormal);
+    its.dpdu = toWorld.applyToVector(its.dpdu);
+    its.dpdv = toWorld.applyToVector(its.dpdv);
+    its.dndu = toLocal.applyTransposeToNormal(its.dndu);
+    its.dndv = toLocal.applyTransposeToNormal(its.dndv);
+}
+
+} // namespace
+
 void Accel::addShape(const Shape *shape) {
     m_shapes.push_back(shape);
     m_isMesh.push_back(dynamic_cast<const Mesh *>(shape) != nullptr);
+}
+
+void Accel::addInstance(const InstanceTarget *target, const Transform &toWorld) {
+    const int depth = target->accel->instanceDepth() + 1;
+    if (depth > kMaxInstanceDepth)
+        throw NoriException("instances nest {} levels deep; at most {} are supported", depth,
+                            kMaxInstanceDepth);
+    m_instanceDepth = std::max(m_instanceDepth, depth);
+    auto [it, inserted] =
+        m_targetIndex.emplace(target, static_cast<uint32_t>(m_targets.size()));
+    if (inserted)
+        m_targets.push_back(target);
+    const AffineMap map = AffineMap::of(toWorld.getMatrix());
+    m_instances.push_back({AffineMap::of(toWorld.getInverseMatrix()), it->second,
+                           static_cast<uint32_t>(m_instances.size())});
+    m_instanceBounds.push_back(transformedBounds(target->accel->getBoundingBox(), map));
 }
 
 void Accel::build() {
@@ -28,13 +85,11 @@ void Accel::build() {
                                   m_shapes[refs[i].first]->getPrimitiveBoundingBox(refs[i].second);
                       });
     m_bvh.build(bounds);
+    bounds = {};
     m_bbox = m_bvh.getBoundingBox();
-    if (m_bvh.statistics().skippedPrimitives > 0)
-        std::cerr << "Warning: " << m_bvh.statistics().skippedPrimitives
-                  << " primitives with non-finite coordinates were left out of the scene\n";
 
     // Copy the primitives into leaf order.
-    const std::vector<uint32_t> &order = m_bvh.primitiveOrder();
+    const std::vector<uint32_t> order = m_bvh.takePrimitiveOrder();
     m_triangles.resize(order.size());
     m_ids.resize(order.size());
     tbb::parallel_for(
@@ -53,45 +108,153 @@ void Accel::build() {
                 m_triangles[slot] = {positions[face[0]], positions[face[1]], positions[face[2]]};
             }
         });
+
+    // The instances, likewise in leaf order of their own tree.
+    m_instanceBvh.build(m_instanceBounds, kInstanceIntersectionCost);
+    m_instanceBounds = {};
+    m_targetIndex = {};
+    const std::vector<uint32_t> instanceOrder = m_instanceBvh.takePrimitiveOrder();
+    std::vector<InstanceRecord> ordered(instanceOrder.size());
+    for (size_t slot = 0; slot < instanceOrder.size(); ++slot)
+        ordered[slot] = m_instances[instanceOrder[slot]];
+    m_instances = std::move(ordered);
+    m_bbox.expandBy(m_instanceBvh.getBoundingBox());
+
+    const size_t left = m_bvh.statistics().skippedPrimitives;
+    const size_t leftInstances = m_instanceBvh.statistics().skippedPrimitives;
+    if (left > 0)
+        std::cerr << "Warning: " << left
+                  << " primitives with non-finite coordinates were left out of the scene\n";
+    if (leftInstances > 0)
+        std::cerr << "Warning: " << leftInstances
+                  << " instances with empty or non-finite bounds were left out of the scene\n";
+}
+
+size_t Accel::memoryBytes() const {
+    return m_bvh.nodeCount() * sizeof(BVHNode) + m_triangles.capacity() * sizeof(TriangleVertices) +
+           m_ids.capacity() * sizeof(PrimitiveId) +
+           m_instanceBvh.nodeCount() * sizeof(BVHNode) +
+           m_instances.capacity() * sizeof(InstanceRecord) +
+           m_targets.capacity() * sizeof(const InstanceTarget *) +
+           m_shapes.capacity() * (sizeof(const Shape *) + sizeof(uint8_t));
+}
+
+Ray3f Accel::toInstanceSpace(const AffineMap &toLocal, const Ray3f &ray, float tMax) {
+    const Point3f o = toLocal.applyToPoint(ray.o);
+    const Vector3f d = toLocal.applyToVector(ray.d);
+    // The local origin lies within ±error of the exact image of ray.o: hits closer than
+    // that along d may be the surface the ray was spawned from.
+    const float lengthSquared = d.squaredNorm();
+    const float dt =
+        lengthSquared > 0.0f ? d.cwiseAbs().dot(toLocal.roundingError(ray.o)) / lengthSquared : 0.0f;
+    return Ray3f(o, d, std::max(ray.mint, dt), tMax);
+}
+
+bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const {
+    bool found = false;
+    float tBest = ray.maxt;
+
+    if (!m_triangles.empty()) {
+        const WatertightRay watertightRay(ray);
+        uint32_t bestSlot = 0;
+        Point2f bestCoords;
+        // Each primitive is tested against the ray's full segment, and the closest hit is
+        // kept (ties to the lower id); the BVH uses its distance to cull nodes.
+        auto intersectPrimitive = [&](uint32_t slot, float &tLimit) {
+            float t;
+            Point2f coords;
+            const TriangleVertices &v = m_triangles[slot];
+            if (v.isTriangle()) {
+                if (!intersectTriangle(watertightRay, v.p0, v.p1, v.p2, t, coords.x(), coords.y()))
+                    return false;
+            } else if (!m_shapes[m_ids[slot].shapeIndex]->rayIntersect(m_ids[slot].primIndex, ray,
+                                                                       t, coords)) {
+                return false;
+            }
+            if (found && (t > tBest || (t == tBest && m_ids[bestSlot] < m_ids[slot])))
+                return false;
+            found = true;
+            bestSlot = slot;
+            tBest = tLimit = t;
+            bestCoords = coords;
+            return true;
+        };
+        float tLimit = ray.maxt;
+        auto prefetch = [&](uint32_t slot) { __builtin_prefetch(&m_triangles[slot]); };
+        m_bvh.traverse(ray, tLimit, anyHit, intersectPrimitive, prefetch);
+        if (found) {
+            if (anyHit)
+                return true;
+            hit.t = tBest;
+            hit.coords = bestCoords;
+            hit.owner = this;
+            hit.slot = bestSlot;
+            hit.depth = depth;
+        }
+    }
+
+    if (!m_instances.empty()) {
+        // A primitive of this Accel wins a tie in t against an instance; among
+        // instances, the earlier one added wins.
+        const InstanceRecord *bestInstance = nullptr;
+        Hit inner;
+        auto intersectInstance = [&](uint32_t slot, float &tLimit) {
+            const InstanceRecord &instance = m_instances[slot];
+            const Ray3f local = toInstanceSpace(instance.toLocal, ray, tBest);
+            if (local.mint > local.maxt ||
+                !m_targets[instance.target]->accel->intersect(local, anyHit, inner, depth + 1))
+                return false;
+            if (found && inner.t == tBest &&
+                (bestInstance == nullptr || bestInstance->order < instance.order))
+                return false;
+            found = true;
+            bestInstance = &instance;
+            if (anyHit)
+                return true;
+            hit = inner;
+            hit.path[depth] = &instance;
+            tBest = tLimit = inner.t;
+            return true;
+        };
+        float tLimit = tBest;
+        auto prefetch = [&](uint32_t slot) { __builtin_prefetch(&m_instances[slot]); };
+        m_instanceBvh.traverse(ray, tLimit, anyHit, intersectInstance, prefetch);
+    }
+    return found;
 }
 
 bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) const {
-    const WatertightRay watertightRay(ray);
-    float tBest = ray.maxt;
-    uint32_t bestSlot = 0;
-    bool found = false;
-    Point2f bestCoords;
-
-    // Each primitive is tested against the ray's full segment, and the closest hit is
-    // kept (ties to the lower id); the BVH uses its distance to cull nodes.
-    auto intersect = [&](uint32_t slot, float &tMax) {
-        float t;
-        Point2f coords;
-        const TriangleVertices &v = m_triangles[slot];
-        if (v.isTriangle()) {
-            if (!intersectTriangle(watertightRay, v.p0, v.p1, v.p2, t, coords.x(), coords.y()))
-                return false;
-        } else if (!m_shapes[m_ids[slot].shapeIndex]->rayIntersect(m_ids[slot].primIndex, ray, t,
-                                                                   coords)) {
-            return false;
-        }
-        if (found && (t > tBest || (t == tBest && m_ids[bestSlot] < m_ids[slot])))
-            return false;
-        found = true;
-        bestSlot = slot;
-        tBest = tMax = t;
-        bestCoords = coords;
-        return true;
-    };
-    float tMax = ray.maxt;
-    auto prefetch = [&](uint32_t slot) { __builtin_prefetch(&m_triangles[slot]); };
-    if (!m_bvh.traverse(ray, tMax, shadowRay, intersect, prefetch))
+    Hit hit;
+    if (!intersect(ray, shadowRay, hit, 0))
         return false;
     if (shadowRay)
         return true;
-    its.t = tBest;
-    const PrimitiveId &id = m_ids[bestSlot];
-    m_shapes[id.shapeIndex]->setHitInformation(id.primIndex, ray, bestCoords, its);
+
+    // Follow the instances the hit lies in: their composed map to the innermost space,
+    // and the shape the innermost placement reports.
+    AffineMap toLocal;
+    const Shape *reportedShape = nullptr;
+    const Accel *accel = this;
+    for (int level = 0; level < hit.depth; ++level) {
+        const InstanceRecord &instance = *hit.path[level];
+        toLocal = instance.toLocal * toLocal;
+        const InstanceTarget *target = accel->m_targets[instance.target];
+        reportedShape = target->reportedShape;
+        accel = target->accel;
+    }
+
+    its.t = hit.t;
+    const PrimitiveId &id = hit.owner->m_ids[hit.slot];
+    const Shape *shape = hit.owner->m_shapes[id.shapeIndex];
+    if (hit.depth == 0) {
+        shape->setHitInformation(id.primIndex, ray, hit.coords, its);
+        return true;
+    }
+    Ray3f localRay(toLocal.applyToPoint(ray.o), toLocal.applyToVector(ray.d), ray.mint, ray.maxt);
+    shape->setHitInformation(id.primIndex, localRay, hit.coords, its);
+    hitToWorld(toLocal.inverse(), toLocal, its);
+    if (reportedShape)
+        its.shape = reportedShape;
     return true;
 }
 

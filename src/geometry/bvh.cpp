@@ -38,8 +38,9 @@ constexpr uint32_t kParallelThreshold = 4096;
 
 class Builder {
 public:
-    explicit Builder(std::vector<PrimitiveRef> &refs)
-        : m_refs(refs), m_nodes(std::max<size_t>(1, 2 * refs.size())) {}
+    Builder(std::vector<PrimitiveRef> &refs, float intersectionCost)
+        : m_refs(refs), m_nodes(std::max<size_t>(1, 2 * refs.size())),
+          m_intersectionCost(intersectionCost) {}
 
     /// Builds the subtree over refs[first, first + count), whose bounds and centroid
     /// bounds are given; returns its node index.
@@ -173,7 +174,7 @@ private:
             }
         }
 
-        const float leafCost = BVH::kIntersectionCost * static_cast<float>(count);
+        const float leafCost = m_intersectionCost * static_cast<float>(count);
         const float invArea = 1.0f / bounds.getSurfaceArea();
         best.cost = std::numeric_limits<float>::infinity();
         for (int axis = 0; axis < 3; ++axis) {
@@ -200,7 +201,7 @@ private:
                     continue;
                 const float cost =
                     BVH::kTraversalCost +
-                    BVH::kIntersectionCost * invArea *
+                    m_intersectionCost * invArea *
                         (accumulated.getSurfaceArea() * static_cast<float>(accumulatedCount) +
                          rightArea[b + 1] * static_cast<float>(rightCount[b + 1]));
                 if (cost < best.cost) {
@@ -246,11 +247,12 @@ private:
     std::vector<BuildNode> m_nodes;
     std::atomic<uint32_t> m_nextNode{0};
     std::atomic<int> m_maxDepth{0};
+    float m_intersectionCost;
 };
 
 } // namespace
 
-void BVH::build(const std::vector<BoundingBox3f> &bounds) {
+void BVH::build(const std::vector<BoundingBox3f> &bounds, float intersectionCost) {
     m_nodes.clear();
     m_primitiveOrder.clear();
     m_statistics = BVHBuildStatistics();
@@ -275,7 +277,7 @@ void BVH::build(const std::vector<BoundingBox3f> &bounds) {
         rootBounds.expandBy(ref.bounds);
         rootCentroids.expandBy(ref.centroid);
     }
-    Builder builder(refs);
+    Builder builder(refs, intersectionCost);
     builder.build(0, static_cast<uint32_t>(refs.size()), rootBounds, rootCentroids, 0);
 
     // Flatten depth-first, sibling pairs together: the root at 0 (1 is padding), then
@@ -296,7 +298,7 @@ void BVH::build(const std::vector<BoundingBox3f> &bounds) {
             flat.offset = node.first;
             flat.count = static_cast<uint16_t>(node.count);
             ++m_statistics.leaves;
-            m_statistics.sahCost += relativeArea * kIntersectionCost * node.count;
+            m_statistics.sahCost += relativeArea * intersectionCost * node.count;
             return;
         }
         const size_t pair = nextPair;

@@ -1,5 +1,6 @@
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
+#include <nori/instance.h>
 #include <nori/proplist.h>
 #include <nori/raydifferential.h>
 #include <nori/rayerror.h>
@@ -41,6 +42,7 @@ void Shape::readSurfaceParameters(const PropertyList &props) {
     m_normalMap = dataTexture("normal");
     m_bumpMap = dataTexture("bump");
     m_bumpScale = props.getFloat("bumpScale", 1.0f);
+    m_visible = props.getBoolean("visible", true);
     if (m_normalMap && m_bumpMap)
         throw NoriException("give a 'normal' map or a 'bump' map, not both");
     if (!std::isfinite(m_bumpScale))
@@ -136,12 +138,27 @@ void Shape::completeHit(const Ray3f &ray, Intersection &its) const {
     its.shFrame = frameAround(n, its.shFrame.s);
 }
 
+void Shape::copySurfaceParameters(const Shape &other) {
+    m_uvScale = other.m_uvScale;
+    m_normalMap = other.m_normalMap;
+    m_bumpMap = other.m_bumpMap;
+    m_bumpScale = other.m_bumpScale;
+}
+
 void Shape::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
     if (child->getClassType() == EBSDF) {
         setUniqueChild(m_bsdf, child, "a shape");
     } else if (child->getClassType() == EEmitter) {
         setUniqueChild(m_emitter, child, "a shape");
         m_emitter->setShape(this);
+    } else if (const auto *tmesh = dynamic_cast<const TMesh *>(child.get())) {
+        if (!m_tmeshes)
+            m_tmeshes = std::make_shared<TMeshSet>(*this);
+        m_tmeshes->add(*tmesh);
+    } else if (child->getClassType() == EMesh) {
+        throw NoriException("a shape holds no other shapes, only <mesh type=\"tmesh\"> copies of "
+                            "itself; put <{} type=\"{}\"> beside it",
+                            classTypeName(child->getClassType()), child->pluginName());
     } else {
         NoriObject::addChild(child, name);
     }
@@ -170,6 +187,14 @@ void Shape::activate() {
                             toString());
     if (!m_bsdf)
         m_bsdf = createDefault<BSDF>("diffuse");
+    if (m_tmeshes) {
+        if (m_emitter)
+            throw NoriException("an area light on a shape with tmesh copies is not supported: "
+                                "instanced geometry does not emit (give each light its own mesh)");
+        m_tmeshes->build();
+    }
+    if (!m_visible && m_emitter)
+        throw NoriException("an invisible shape (visible = false) cannot carry an area light");
 }
 
 } // namespace nori

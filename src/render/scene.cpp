@@ -27,7 +27,7 @@ Color3f Scene::sampleCameraRay(Ray3f &ray, const Point2f &samplePosition,
 
 bool Scene::rayIntersect(const Ray3f &ray, Intersection &its) const {
     ++m_rayCounter->perThread.local();
-    if (!m_accel.rayIntersect(ray, its, false))
+    if (!m_contents.accel().rayIntersect(ray, its, false))
         return false;
     its.shape->completeHit(ray, its);
     return true;
@@ -36,7 +36,7 @@ bool Scene::rayIntersect(const Ray3f &ray, Intersection &its) const {
 bool Scene::rayIntersect(const Ray3f &ray) const {
     ++m_rayCounter->perThread.local();
     Intersection its;
-    return m_accel.rayIntersect(ray, its, true);
+    return m_contents.accel().rayIntersect(ray, its, true);
 }
 
 uint64_t Scene::rayCount() const {
@@ -45,12 +45,18 @@ uint64_t Scene::rayCount() const {
 
 std::string Scene::statisticsSummary() const {
     size_t triangles = 0;
-    for (const auto &shape : m_shapes)
+    for (const auto &shape : getShapes())
         if (dynamic_cast<const Mesh *>(shape.get()))
             triangles += shape->getPrimitiveCount();
-    return fmt::format("{} shapes ({} triangles), {} emitters; BVH of {} primitives built in {}",
-                       m_shapes.size(), triangles, m_emitters.size(),
-                       m_accel.statistics().primitives,
+    const Accel &accel = m_contents.accel();
+    const std::string instances =
+        accel.instanceCount() == 0
+            ? ""
+            : fmt::format(" and {} instances ({} levels)", accel.instanceCount(),
+                          accel.instanceDepth());
+    return fmt::format("{} shapes ({} triangles), {} emitters; BVH of {} primitives{} built in {}",
+                       getShapes().size(), triangles, m_emitters.size(),
+                       accel.statistics().primitives, instances,
                        m_buildSeconds < 1.0 ? fmt::format("{:.0f} ms", m_buildSeconds * 1e3)
                                             : fmt::format("{:.2f} s", m_buildSeconds));
 }
@@ -58,7 +64,7 @@ std::string Scene::statisticsSummary() const {
 void Scene::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
     switch (child->getClassType()) {
     case EMesh:
-        m_shapes.push_back(std::static_pointer_cast<Shape>(child));
+        m_contents.add(child);
         break;
     case EIntegrator:
         setUniqueChild(m_integrator, child, "a scene");
@@ -89,20 +95,19 @@ void Scene::activate() {
         throw NoriException("the scene has no camera");
     if (!m_sampler)
         m_sampler = createDefault<Sampler>("independent");
-    for (const auto &shape : m_shapes) {
-        m_accel.addShape(shape.get());
-        m_needsRayDifferentials = m_needsRayDifferentials || shape->usesFootprint();
+    m_needsRayDifferentials = m_contents.usesFootprint();
+    for (const auto &shape : getShapes()) {
         if (shape->getEmitterPtr())
             m_emitters.push_back(shape->getEmitterPtr());
     }
     const auto start = std::chrono::steady_clock::now();
-    m_accel.build();
+    m_contents.build();
     m_buildSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     m_infiniteEmitters.clear();
     for (const auto &emitter : m_emitters) {
-        emitter->setSceneBounds(m_accel.getBoundingBox());
+        emitter->setSceneBounds(getBoundingBox());
         if (emitter->isInfinite())
             m_infiniteEmitters.push_back(emitter.get());
     }
@@ -135,7 +140,7 @@ float Scene::emitterPmf(const Emitter *emitter) const {
 
 std::string Scene::toString() const {
     std::string shapes;
-    for (const auto &shape : m_shapes)
+    for (const auto &shape : getShapes())
         shapes += "    " + shape->toString() + "\n";
     return fmt::format("Scene[\n  integrator = {},\n  camera = {},\n  sampler = {},\n"
                        "  shapes = {{\n{}  }}\n]",

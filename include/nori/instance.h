@@ -1,0 +1,131 @@
+// Instancing: the objects that place geometry rather than being a surface, and the
+// collection of shapes and placements that a scene and a shape group both hold.
+//   <mesh type="shapegroup" id="g">  shapes placed only through instances of it
+//   <mesh type="instance">           a <ref id="g"/> and a toWorld
+//   <mesh type="tmesh">              nested in a mesh (course style): a copy of that
+//                                    mesh placed by its own toWorld, with its own BSDF
+// Every placement is a 56-byte record in an Accel's instance BVH; the geometry it places
+// has one bottom-level BVH, shared by all its placements (see accel.h).
+#pragma once
+
+#include <nori/accel.h>
+
+#include <unordered_set>
+
+namespace nori {
+
+class ShapeGroup;
+
+/// <mesh type="instance">: a shape group placed by `toWorld`.
+class Instance : public NoriObject {
+public:
+    static constexpr EClassType kClassType = EMesh;
+
+    explicit Instance(const PropertyList &props);
+    /// Takes the shape group (through a <ref>); anything else is an error.
+    void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
+    void activate() override;
+    const std::shared_ptr<ShapeGroup> &group() const { return m_group; }
+    const Transform &toWorld() const { return m_toWorld; }
+    std::string toString() const override;
+    EClassType getClassType() const override { return kClassType; }
+
+private:
+    Transform m_toWorld;
+    std::shared_ptr<ShapeGroup> m_group;
+};
+
+/// <mesh type="tmesh">: a copy of the mesh it is nested in, placed by `toWorld` (applied
+/// after the parent's own toWorld), with its own BSDF or else the parent's.
+class TMesh : public NoriObject {
+public:
+    static constexpr EClassType kClassType = EMesh;
+
+    explicit TMesh(const PropertyList &props);
+    /// Takes one <bsdf>.
+    void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
+    const Transform &toWorld() const { return m_toWorld; }
+    const std::shared_ptr<BSDF> &bsdf() const { return m_bsdf; }
+    std::string toString() const override;
+    EClassType getClassType() const override { return kClassType; }
+
+private:
+    Transform m_toWorld;
+    std::shared_ptr<BSDF> m_bsdf;
+};
+
+/// The tmesh copies of one shape: an Accel over the shape alone, shared by every copy,
+/// and for each BSDF other than the shape's a view of the shape that reports it.
+class TMeshSet {
+public:
+    explicit TMeshSet(const Shape &parent);
+    /// Records a copy; its BSDF (if any) must be activated.
+    void add(const TMesh &tmesh);
+    /// Builds the shared Accel once every copy is recorded.
+    void build();
+    /// Places every copy into `accel`, then forgets the placements: the records in
+    /// `accel` are the only per-copy memory left.
+    void placeInto(Accel &accel);
+    /// Whether a copy's BSDF filters a texture over the pixel footprint.
+    bool usesFootprint() const;
+
+private:
+    const Shape &m_parent;
+    Accel m_accel;
+    std::vector<std::unique_ptr<Accel::InstanceTarget>> m_targets; ///< [0]: the parent's BSDF
+    std::vector<std::shared_ptr<Shape>> m_views;                   ///< one per other BSDF
+    std::vector<std::pair<uint32_t, Transform>> m_placements;      ///< (target, toWorld)
+    std::vector<std::shared_ptr<BSDF>> m_pendingBSDFs;             ///< per copy, until build()
+};
+
+/// The shapes and placements a scene or a shape group holds, and the Accel over them.
+class ShapeCollection {
+public:
+    /// Takes a <mesh> child: a shape (rendered unless `visible` is false, with its tmesh
+    /// copies), an instance (kept only as a record in the Accel), or a shape group (a
+    /// declaration, used through <ref>: ignored here). A tmesh outside a mesh is an error.
+    void add(const std::shared_ptr<NoriObject> &child);
+    /// Builds the Accel over the visible shapes and every placement.
+    void build();
+
+    const Accel &accel() const { return m_accel; }
+    /// Every shape added, including invisible templates.
+    const std::vector<std::shared_ptr<Shape>> &shapes() const { return m_shapes; }
+    /// Whether some shape it renders, here or through a placement, filters a texture
+    /// over the pixel footprint (Shape::usesFootprint).
+    bool usesFootprint() const { return m_usesFootprint; }
+
+private:
+    /// Keeps what a placement refers to alive, once per object.
+    void keepAlive(const std::shared_ptr<const void> &object);
+
+    std::vector<std::shared_ptr<Shape>> m_shapes;
+    std::vector<std::shared_ptr<const void>> m_placed;
+    std::unordered_set<const void *> m_placedSet;
+    Accel m_accel;
+    bool m_usesFootprint = false;
+};
+
+/// <mesh type="shapegroup">: shapes and instances that render only where instances of
+/// the group place them.
+class ShapeGroup : public NoriObject {
+public:
+    static constexpr EClassType kClassType = EMesh;
+
+    explicit ShapeGroup(const PropertyList &props);
+    /// Takes shapes, instances and nested group declarations; refuses area lights.
+    void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
+    /// Builds the group's Accel; an empty group is an error.
+    void activate() override;
+    const Accel::InstanceTarget *target() const { return &m_target; }
+    bool usesFootprint() const { return m_contents.usesFootprint(); }
+    std::string toString() const override;
+    EClassType getClassType() const override { return kClassType; }
+
+private:
+    ShapeCollection m_contents;
+    Accel::InstanceTarget m_target;
+    size_t m_shapeCount = 0, m_instanceCount = 0;
+};
+
+} // namespace nori

@@ -1,0 +1,196 @@
+#include <nori/bsdf.h>
+#include <nori/emitter.h>
+#include <nori/instance.h>
+#include <nori/proplist.h>
+
+namespace nori {
+
+namespace {
+
+/// A shape seen with another BSDF: the geometry, uvs and maps are the parent's; hits on
+/// a tmesh copy with its own BSDF report this view, so integrators read that BSDF.
+class ShapeWithBSDF : public Shape {
+public:
+    ShapeWithBSDF(const Shape &parent, std::shared_ptr<BSDF> bsdf) : m_parent(parent) {
+        copySurfaceParameters(parent);
+        m_bsdf = std::move(bsdf);
+        m_bbox = parent.getBoundingBox();
+    }
+    uint32_t getPrimitiveCount() const override { return m_parent.getPrimitiveCount(); }
+    BoundingBox3f getPrimitiveBoundingBox(uint32_t index) const override {
+        return m_parent.getPrimitiveBoundingBox(index);
+    }
+    Point3f getPrimitiveCentroid(uint32_t index) const override {
+        return m_parent.getPrimitiveCentroid(index);
+    }
+    bool rayIntersect(uint32_t index, const Ray3f &ray, float &t,
+                      Point2f &hitCoords) const override {
+        return m_parent.rayIntersect(index, ray, t, hitCoords);
+    }
+    void setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
+                           Intersection &its) const override {
+        m_parent.setHitInformation(index, ray, hitCoords, its);
+        its.shape = this;
+    }
+    float getArea() const override { return m_parent.getArea(); }
+    ShapeSample sampleSurface(const Point2f &sample) const override {
+        return m_parent.sampleSurface(sample);
+    }
+    std::string toString() const override {
+        return fmt::format("ShapeWithBSDF[{}, bsdf = {}]", m_parent.toString(),
+                           m_bsdf->toString());
+    }
+
+private:
+    const Shape &m_parent;
+};
+
+} // namespace
+
+Instance::Instance(const PropertyList &props) : m_toWorld(props.getTransform("toWorld", {})) {
+    AffineMap::of(m_toWorld.getMatrix()); // checks that it is affine
+}
+
+void Instance::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
+    (void)name;
+    auto group = std::dynamic_pointer_cast<ShapeGroup>(child);
+    if (!group)
+        throw NoriException("an instance places a <mesh type=\"shapegroup\"> (through <ref>), "
+                            "not a <{} type=\"{}\">",
+                            classTypeName(child->getClassType()), child->pluginName());
+    if (m_group)
+        throw NoriException("an instance places one shape group, not several");
+    m_group = std::move(group);
+}
+
+void Instance::activate() {
+    if (!m_group)
+        throw NoriException("an instance needs a <ref id=\"...\"/> to the shape group it places");
+}
+
+std::string Instance::toString() const {
+    return fmt::format("Instance[toWorld = {}]", m_toWorld.toString());
+}
+
+TMesh::TMesh(const PropertyList &props) : m_toWorld(props.getTransform("toWorld", {})) {
+    AffineMap::of(m_toWorld.getMatrix());
+}
+
+void TMesh::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
+    if (child->getClassType() == EBSDF)
+        setUniqueChild(m_bsdf, child, "a tmesh");
+    else
+        NoriObject::addChild(child, name);
+}
+
+std::string TMesh::toString() const {
+    return fmt::format("TMesh[toWorld = {}]", m_toWorld.toString());
+}
+
+TMeshSet::TMeshSet(const Shape &parent) : m_parent(parent) {}
+
+void TMeshSet::add(const TMesh &tmesh) {
+    // Until build(), the target index is a placeholder; the BSDF decides it there.
+    m_pendingBSDFs.push_back(tmesh.bsdf());
+    m_placements.emplace_back(0, tmesh.toWorld());
+}
+
+void TMeshSet::build() {
+    m_accel.addShape(&m_parent);
+    m_accel.build();
+    m_targets.push_back(std::make_unique<Accel::InstanceTarget>(
+        Accel::InstanceTarget{&m_accel, nullptr}));
+    // One view (and target) per distinct BSDF other than the parent's.
+    std::vector<const BSDF *> viewBSDFs;
+    for (size_t i = 0; i < m_placements.size(); ++i) {
+        const std::shared_ptr<BSDF> &bsdf = m_pendingBSDFs[i];
+        if (!bsdf || bsdf.get() == m_parent.getBSDF())
+            continue;
+        auto it = std::find(viewBSDFs.begin(), viewBSDFs.end(), bsdf.get());
+        if (it == viewBSDFs.end()) {
+            viewBSDFs.push_back(bsdf.get());
+            m_views.push_back(std::make_shared<ShapeWithBSDF>(m_parent, bsdf));
+            m_targets.push_back(std::make_unique<Accel::InstanceTarget>(
+                Accel::InstanceTarget{&m_accel, m_views.back().get()}));
+            it = viewBSDFs.end() - 1;
+        }
+        m_placements[i].first = static_cast<uint32_t>(1 + (it - viewBSDFs.begin()));
+    }
+    m_pendingBSDFs = {};
+}
+
+void TMeshSet::placeInto(Accel &accel) {
+    for (const auto &[target, toWorld] : m_placements)
+        accel.addInstance(m_targets[target].get(), toWorld);
+    m_placements = {};
+}
+
+bool TMeshSet::usesFootprint() const {
+    return std::any_of(m_views.begin(), m_views.end(),
+                       [](const auto &view) { return view->usesFootprint(); });
+}
+
+void ShapeCollection::keepAlive(const std::shared_ptr<const void> &object) {
+    if (m_placedSet.insert(object.get()).second)
+        m_placed.push_back(object);
+}
+
+void ShapeCollection::add(const std::shared_ptr<NoriObject> &child) {
+    if (auto instance = std::dynamic_pointer_cast<Instance>(child)) {
+        m_accel.addInstance(instance->group()->target(), instance->toWorld());
+        keepAlive(instance->group());
+        m_usesFootprint = m_usesFootprint || instance->group()->usesFootprint();
+    } else if (std::dynamic_pointer_cast<ShapeGroup>(child)) {
+        // A declaration: its instances place it.
+    } else if (std::dynamic_pointer_cast<TMesh>(child)) {
+        throw NoriException("a <mesh type=\"tmesh\"> must be nested inside the mesh whose "
+                            "geometry it copies");
+    } else {
+        auto shape = std::static_pointer_cast<Shape>(child);
+        m_shapes.push_back(shape);
+        m_usesFootprint = m_usesFootprint || shape->usesFootprint() ||
+                          (shape->tmeshes() && shape->tmeshes()->usesFootprint());
+        if (shape->tmeshes()) {
+            shape->tmeshes()->placeInto(m_accel);
+            keepAlive(shape->tmeshes());
+        }
+    }
+}
+
+void ShapeCollection::build() {
+    for (const auto &shape : m_shapes)
+        if (shape->isVisible())
+            m_accel.addShape(shape.get());
+    m_accel.build();
+}
+
+ShapeGroup::ShapeGroup(const PropertyList &props) : m_target{&m_contents.accel(), nullptr} {
+    (void)props;
+}
+
+void ShapeGroup::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
+    if (child->getClassType() != EMesh) {
+        NoriObject::addChild(child, name);
+        return;
+    }
+    if (const auto *shape = dynamic_cast<const Shape *>(child.get()); shape && shape->getEmitter())
+        throw NoriException("a shape group cannot hold an area light (instanced geometry does "
+                            "not emit): put the emitting mesh in the scene itself");
+    m_contents.add(child);
+    if (dynamic_cast<const Shape *>(child.get()))
+        ++m_shapeCount;
+    else if (dynamic_cast<const Instance *>(child.get()))
+        ++m_instanceCount;
+}
+
+void ShapeGroup::activate() {
+    if (m_shapeCount == 0 && m_instanceCount == 0)
+        throw NoriException("a shape group needs at least one shape or instance");
+    m_contents.build();
+}
+
+std::string ShapeGroup::toString() const {
+    return fmt::format("ShapeGroup[{} shapes, {} instances]", m_shapeCount, m_instanceCount);
+}
+
+} // namespace nori
