@@ -21,6 +21,11 @@ public:
                       Point2f &hitCoords) const override;
     void setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
                            Intersection &its) const override;
+    /// Shades like a copy of the mesh loaded with toWorld: vertex normals are mapped and
+    /// normalised one by one before they are interpolated.
+    void setInstancedHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
+                                    const AffineMap &toWorld, const AffineMap &toLocal,
+                                    Intersection &its) const override;
 
     float surfaceArea(uint32_t index) const;
     float getArea() const override { return m_triangleAreas.getSum(); }
@@ -49,6 +54,10 @@ protected:
     /// the bounding box. Normals and texture coordinates are optional (empty) but, when
     /// present, one per vertex.
     void finishLoading(const Transform &toWorld);
+    /// The shading frame and the normal's uv derivatives at barycentrics (b1, b2), from
+    /// its.geoFrame and its.dpdu; with toWorld and toLocal, of the instance's copy.
+    void setShadingFrame(uint32_t index, float b1, float b2, const AffineMap *toWorld,
+                         const AffineMap *toLocal, Intersection &its) const;
     /// Per-vertex tangents from the uvs (empty without uvs).
     void computeTangents();
 

@@ -6,6 +6,7 @@
 #include <nori/frame.h>
 #include <nori/object.h>
 #include <nori/texture.h>
+#include <nori/transform.h>
 
 namespace nori {
 
@@ -72,6 +73,14 @@ public:
     /// Fills every field of `its` but t, which the caller has set.
     virtual void setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
                                    Intersection &its) const = 0;
+
+    /// setHitInformation for a hit found inside an instance (ray and hitCoords in the
+    /// shape's space), carried to world space by toWorld (toLocal is its inverse).
+    /// Points and tangents map by toWorld, normals by toLocal's transpose (the inverse
+    /// transpose of toWorld), so they stay perpendicular under non-uniform scale.
+    virtual void setInstancedHitInformation(uint32_t index, const Ray3f &ray,
+                                            const Point2f &hitCoords, const AffineMap &toWorld,
+                                            const AffineMap &toLocal, Intersection &its) const;
 
     /// Total surface area.
     virtual float getArea() const = 0;

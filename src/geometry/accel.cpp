@@ -23,31 +23,6 @@ BoundingBox3f transformedBounds(const BoundingBox3f &box, const AffineMap &toWor
     return result;
 }
 
-/// Carries a hit found in an instance's space to world space. Points and tangents go by
-/// toWorld, normals by the transpose of toLocal (the inverse transpose of toWorld), so
-/// they stay perpendicular under non-uniform scale; t is the same parameter in both.
-void hitToWorld(const AffineMap &toWorld, const AffineMap &toLocal, Intersection &its) {
-    const Point3f localP = its.p;
-    its.p = toWorld.applyToPoint(localP);
-    // toWorld is the rounded inverse of toLocal: one rounding (γ₁ ≈ γ₃/3) more than
-    // pbrt's bound for an exact matrix.
-    its.pError = toWorld.propagatedError(localP, its.pError) + toWorld.roundingError(localP) / 3.0f;
-
-    const Vector3f geoNormal = toLocal.applyTransposeToNormal(its.geoFrame.n).normalized();
-    its.geoFrame = Frame(geoNormal);
-    const Vector3f shadingNormal = toLocal.applyTransposeToNormal(its.shFrame.n).normalized();
-    Vector3f tangent = toWorld.applyToVector(its.shFrame.s);
-    tangent -= shadingNormal * shadingNormal.dot(tangent);
-    its.shFrame = tangent.squaredNorm() > 1e-20f
-                      ? Frame(tangent.normalized(), shadingNormal.cross(tangent.normalized()),
-                              shadingNormal)
-                      : Frame(shadingNormal);
-    its.dpdu = toWorld.applyToVector(its.dpdu);
-    its.dpdv = toWorld.applyToVector(its.dpdv);
-    its.dndu = toLocal.applyTransposeToNormal(its.dndu);
-    its.dndv = toLocal.applyTransposeToNormal(its.dndv);
-}
-
 } // namespace
 
 void Accel::addShape(const Shape *shape) {
@@ -251,8 +226,8 @@ bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) co
         return true;
     }
     Ray3f localRay(toLocal.applyToPoint(ray.o), toLocal.applyToVector(ray.d), ray.mint, ray.maxt);
-    shape->setHitInformation(id.primIndex, localRay, hit.coords, its);
-    hitToWorld(toLocal.inverse(), toLocal, its);
+    shape->setInstancedHitInformation(id.primIndex, localRay, hit.coords, toLocal.inverse(), toLocal,
+                                      its);
     if (reportedShape)
         its.shape = reportedShape;
     return true;

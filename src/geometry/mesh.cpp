@@ -72,15 +72,52 @@ void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hi
         its.dpdv = its.geoFrame.t;
     }
 
+    setShadingFrame(index, b1, b2, nullptr, nullptr, its);
+}
+
+void Mesh::setInstancedHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
+                                      const AffineMap &toWorld, const AffineMap &toLocal,
+                                      Intersection &its) const {
+    Shape::setInstancedHitInformation(index, ray, hitCoords, toWorld, toLocal, its);
+    // Shade as a copy loaded with toWorld would: from the vertex normals mapped and
+    // normalised one by one (finishLoading), not from the mapped interpolated normal.
+    setShadingFrame(index, hitCoords.x(), hitCoords.y(), &toWorld, &toLocal, its);
+}
+
+void Mesh::setShadingFrame(uint32_t index, float b1, float b2, const AffineMap *toWorld,
+                           const AffineMap *toLocal, Intersection &its) const {
+    const Vector3i &face = m_faces[index];
+    const float b0 = 1.0f - b1 - b2;
+    // The vertex normals (unit), in world space for an instance's hit.
+    Vector3f normals[3];
+    if (!m_normals.empty())
+        for (int i = 0; i < 3; ++i) {
+            normals[i] = m_normals[face[i]];
+            if (toLocal) {
+                normals[i] = toLocal->applyTransposeToNormal(normals[i]);
+                const float length = normals[i].norm();
+                if (length > 0.0f)
+                    normals[i] /= length;
+            }
+        }
+
     // Shading frame: the interpolated normal, with s along the interpolated per-vertex
     // tangent where the mesh has uvs (smooth across triangles, for normal maps), else
     // along dp/du, both made orthogonal to the normal (Gram–Schmidt).
-    Vector3f shadingNormal = interpolatedNormal(index, b1, b2);
+    Vector3f shadingNormal = Vector3f::Zero();
+    if (!m_normals.empty()) {
+        const Vector3f n = b0 * normals[0] + b1 * normals[1] + b2 * normals[2];
+        if (n.norm() > 0.0f)
+            shadingNormal = n.normalized();
+    }
     if (shadingNormal.isZero())
         shadingNormal = its.geoFrame.n;
     Vector3f tangent = its.dpdu;
-    if (!m_tangents.empty())
+    if (!m_tangents.empty()) {
         tangent = b0 * m_tangents[face[0]] + b1 * m_tangents[face[1]] + b2 * m_tangents[face[2]];
+        if (toWorld)
+            tangent = toWorld->applyToVector(tangent);
+    }
     tangent -= shadingNormal * shadingNormal.dot(tangent);
     if (tangent.squaredNorm() > 1e-20f) {
         tangent.normalize();
@@ -92,9 +129,16 @@ void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hi
     // Derivatives of the (unnormalised) interpolated normal w.r.t. uv, from the same 2x2
     // system as dp/du with the normal differences (pbrt-v3 §3.6.2).
     its.dndu = its.dndv = Vector3f::Zero();
-    if (!m_normals.empty() && std::abs(determinant) > 1e-12f) {
-        const Vector3f dn1 = m_normals[face[1]] - m_normals[face[0]];
-        const Vector3f dn2 = m_normals[face[2]] - m_normals[face[0]];
+    if (m_normals.empty())
+        return;
+    // The mesh's uvs, or the barycentric parameterisation (as in setHitInformation).
+    const Vector2f duv1 = m_texCoords.empty() ? Vector2f(1.0f, 0.0f)
+                                              : Vector2f(m_texCoords[face[1]] - m_texCoords[face[0]]);
+    const Vector2f duv2 = m_texCoords.empty() ? Vector2f(0.0f, 1.0f)
+                                              : Vector2f(m_texCoords[face[2]] - m_texCoords[face[0]]);
+    const float determinant = duv1.x() * duv2.y() - duv1.y() * duv2.x();
+    if (std::abs(determinant) > 1e-12f) {
+        const Vector3f dn1 = normals[1] - normals[0], dn2 = normals[2] - normals[0];
         const float invDet = 1.0f / determinant;
         its.dndu = (duv2.y() * dn1 - duv1.y() * dn2) * invDet;
         its.dndv = (duv1.x() * dn2 - duv2.x() * dn1) * invDet;

@@ -138,6 +138,34 @@ void Shape::completeHit(const Ray3f &ray, Intersection &its) const {
     its.shFrame = frameAround(n, its.shFrame.s);
 }
 
+void Shape::setInstancedHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
+                                       const AffineMap &toWorld, const AffineMap &toLocal,
+                                       Intersection &its) const {
+    setHitInformation(index, ray, hitCoords, its);
+    const Point3f localP = its.p;
+    its.p = toWorld.applyToPoint(localP);
+    // toWorld is the rounded inverse of toLocal: one rounding (γ₁ ≈ γ₃/3) more than
+    // pbrt's bound for an exact matrix.
+    its.pError = toWorld.propagatedError(localP, its.pError) + toWorld.roundingError(localP) / 3.0f;
+
+    its.geoFrame = Frame(toLocal.applyTransposeToNormal(its.geoFrame.n).normalized());
+    const Vector3f worldNormal = toLocal.applyTransposeToNormal(its.shFrame.n);
+    const Vector3f shadingNormal = worldNormal.normalized();
+    Vector3f tangent = toWorld.applyToVector(its.shFrame.s);
+    tangent -= shadingNormal * shadingNormal.dot(tangent);
+    its.shFrame = tangent.squaredNorm() > 1e-20f
+                      ? Frame(tangent.normalized(), shadingNormal.cross(tangent.normalized()),
+                              shadingNormal)
+                      : Frame(shadingNormal);
+    its.dpdu = toWorld.applyToVector(its.dpdu);
+    its.dpdv = toWorld.applyToVector(its.dpdv);
+    // The normal field maps by Aᵀ and is then normalised: its derivatives scale by the
+    // same 1/|Aᵀn| to first order, so they stay those of a unit-length field.
+    const float normalScale = 1.0f / worldNormal.norm();
+    its.dndu = normalScale * toLocal.applyTransposeToNormal(its.dndu);
+    its.dndv = normalScale * toLocal.applyTransposeToNormal(its.dndv);
+}
+
 void Shape::copySurfaceParameters(const Shape &other) {
     m_uvScale = other.m_uvScale;
     m_normalMap = other.m_normalMap;
