@@ -60,7 +60,7 @@ void Accel::build() {
                                   m_shapes[refs[i].first]->getPrimitiveBoundingBox(refs[i].second);
                       });
     m_bvh.build(bounds);
-    bounds = {};
+    std::vector<BoundingBox3f>().swap(bounds); // frees it (`= {}` would keep the capacity)
     m_bbox = m_bvh.getBoundingBox();
 
     // Copy the primitives into leaf order.
@@ -86,8 +86,8 @@ void Accel::build() {
 
     // The instances, likewise in leaf order of their own tree.
     m_instanceBvh.build(m_instanceBounds, kInstanceIntersectionCost);
-    m_instanceBounds = {};
-    m_targetIndex = {};
+    std::vector<BoundingBox3f>().swap(m_instanceBounds);
+    decltype(m_targetIndex)().swap(m_targetIndex);
     const std::vector<uint32_t> instanceOrder = m_instanceBvh.takePrimitiveOrder();
     std::vector<InstanceRecord> ordered(instanceOrder.size());
     for (size_t slot = 0; slot < instanceOrder.size(); ++slot)

@@ -311,7 +311,9 @@ void BVH::build(const std::vector<BoundingBox3f> &bounds, float intersectionCost
         self(self, node.children[1], pair + 1);
     };
     flatten(flatten, 0, 0);
+    // The array was sized for the worst case; give back the rest.
     m_nodes.resize(nextPair);
+    m_nodes.shrink_to_fit();
 
     m_primitiveOrder.resize(refs.size());
     for (size_t i = 0; i < refs.size(); ++i)

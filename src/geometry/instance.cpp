@@ -116,13 +116,13 @@ void TMeshSet::build() {
         }
         m_placements[i].first = static_cast<uint32_t>(1 + (it - viewBSDFs.begin()));
     }
-    m_pendingBSDFs = {};
+    decltype(m_pendingBSDFs)().swap(m_pendingBSDFs); // frees it (`= {}` keeps the capacity)
 }
 
 void TMeshSet::placeInto(Accel &accel) {
     for (const auto &[target, toWorld] : m_placements)
         accel.addInstance(m_targets[target].get(), toWorld);
-    m_placements = {};
+    decltype(m_placements)().swap(m_placements);
 }
 
 bool TMeshSet::usesFootprint() const {
