@@ -41,8 +41,7 @@ void Accel::addInstance(const InstanceTarget *target, const Transform &toWorld) 
     if (inserted)
         m_targets.push_back(target);
     const AffineMap map = AffineMap::of(toWorld.getMatrix());
-    m_instances.push_back({AffineMap::of(toWorld.getInverseMatrix()), it->second,
-                           static_cast<uint32_t>(m_instances.size())});
+    m_instances.push_back({map.inverse(), it->second, static_cast<uint32_t>(m_instances.size())});
     m_instanceBounds.push_back(transformedBounds(target->accel->getBoundingBox(), map));
 }
 
