@@ -14,10 +14,10 @@
 #include <sstream>
 
 using namespace nori;
+using Catch::Contains;
 using nori::testing::errorOf;
 using nori::testing::loadScene;
 using nori::testing::TempDir;
-using Catch::Contains;
 
 namespace {
 
@@ -30,10 +30,9 @@ std::string wavyPatchObj() {
     for (int j = 0; j <= n; ++j)
         for (int i = 0; i <= n; ++i) {
             const float x = -1.0f + 2.0f * i / n, z = -1.0f + 2.0f * j / n;
-            const Vector3f normal =
-                Vector3f(-0.6f * std::cos(3.0f * x) * std::cos(2.0f * z), 1.0f,
-                         0.4f * std::sin(3.0f * x) * std::sin(2.0f * z))
-                    .normalized();
+            const Vector3f normal = Vector3f(-0.6f * std::cos(3.0f * x) * std::cos(2.0f * z), 1.0f,
+                                             0.4f * std::sin(3.0f * x) * std::sin(2.0f * z))
+                                        .normalized();
             obj += fmt::format("v {} {} {}\nvt {} {}\nvn {} {} {}\n", x, height(x, z), z,
                                float(i) / n, float(j) / n, normal.x(), normal.y(), normal.z());
         }
@@ -56,8 +55,8 @@ Placement randomPlacement(PCG32 &random) {
     return {fmt::format("<transform name=\"toWorld\"><scale value=\"{}, {}, {}\"/>"
                         "<rotate axis=\"{}, {}, {}\" angle=\"{}\"/>"
                         "<translate value=\"{}, {}, {}\"/></transform>",
-                        r(0.3f, 1.5f), r(0.3f, 1.5f), r(0.3f, 1.5f), r(-1, 1), r(-1, 1),
-                        r(0.1f, 1), r(0, 360), r(-4, 4), r(-4, 4), r(-4, 4))};
+                        r(0.3f, 1.5f), r(0.3f, 1.5f), r(0.3f, 1.5f), r(-1, 1), r(-1, 1), r(0.1f, 1),
+                        r(0, 360), r(-4, 4), r(-4, 4), r(-4, 4))};
 }
 
 const char *kSceneHead = R"(<scene><integrator type="normals"/>
@@ -69,7 +68,8 @@ const char *kSceneHead = R"(<scene><integrator type="normals"/>
 std::pair<std::string, std::string> patchScenes(int count, uint64_t seed) {
     PCG32 random(seed, 3);
     std::string separate = kSceneHead, instanced = kSceneHead;
-    instanced += R"(<mesh type="shapegroup" id="patch"><mesh type="obj"><string name="filename" value="patch.obj"/></mesh></mesh>)";
+    instanced +=
+        R"(<mesh type="shapegroup" id="patch"><mesh type="obj"><string name="filename" value="patch.obj"/></mesh></mesh>)";
     for (int i = 0; i < count; ++i) {
         const Placement placement = randomPlacement(random);
         separate += R"(<mesh type="obj"><string name="filename" value="patch.obj"/>)" +
@@ -131,21 +131,21 @@ TEST_CASE("Instances hit exactly like the same meshes transformed and loaded sep
         // the transform's condition number (≤ 5 here) and grazing hits. The tangent is
         // looser (1e-3): a loaded copy averages per-triangle tangents weighted by world
         // areas, an instance maps the average of local ones.
-        const bool same = std::abs(a.t - b.t) <= 1e-4f * a.t && close(a.p, b.p, 1e-4f) &&
-                          a.geoFrame.n.dot(b.geoFrame.n) > 1.0f - 1e-4f &&
-                          a.shFrame.n.dot(b.shFrame.n) > 1.0f - 1e-4f &&
-                          a.shFrame.s.dot(b.shFrame.s) > 1.0f - 1e-3f &&
-                          close(Vector3f(a.uv.x(), a.uv.y(), 0), Vector3f(b.uv.x(), b.uv.y(), 0),
-                                1e-4f) &&
-                          close(a.dpdu, b.dpdu, 1e-3f) && close(a.dpdv, b.dpdv, 1e-3f) &&
-                          close(a.dndu, b.dndu, 1e-3f) && close(a.dndv, b.dndv, 1e-3f) &&
-                          (a.pError.array() > 0.0f).all() && (b.pError.array() > 0.0f).all();
+        const bool same =
+            std::abs(a.t - b.t) <= 1e-4f * a.t && close(a.p, b.p, 1e-4f) &&
+            a.geoFrame.n.dot(b.geoFrame.n) > 1.0f - 1e-4f &&
+            a.shFrame.n.dot(b.shFrame.n) > 1.0f - 1e-4f &&
+            a.shFrame.s.dot(b.shFrame.s) > 1.0f - 1e-3f &&
+            close(Vector3f(a.uv.x(), a.uv.y(), 0), Vector3f(b.uv.x(), b.uv.y(), 0), 1e-4f) &&
+            close(a.dpdu, b.dpdu, 1e-3f) && close(a.dpdv, b.dpdv, 1e-3f) &&
+            close(a.dndu, b.dndu, 1e-3f) && close(a.dndv, b.dndv, 1e-3f) &&
+            (a.pError.array() > 0.0f).all() && (b.pError.array() > 0.0f).all();
         if (!same && ++fieldMismatches <= 3)
             UNSCOPED_INFO("ray " << i << ": t " << a.t << " vs " << b.t << ", n "
                                  << a.geoFrame.n.transpose() << " vs " << b.geoFrame.n.transpose()
                                  << ", ns " << a.shFrame.n.transpose() << " vs "
-                                 << b.shFrame.n.transpose() << ", uv " << a.uv.transpose()
-                                 << " vs " << b.uv.transpose());
+                                 << b.shFrame.n.transpose() << ", uv " << a.uv.transpose() << " vs "
+                                 << b.uv.transpose());
     }
     INFO(both << " rays hit both, " << disagreements << " hit only one");
     CHECK(both > 4000);
@@ -234,6 +234,28 @@ TEST_CASE("Normals of instances under non-uniform scale and rotation are the ana
     CHECK(wrong == 0);
 }
 
+TEST_CASE("A mirrored instance keeps its normals outward", "[instancing]") {
+    // scale (−1, 1, 1) reverses the winding; normals map by the inverse transpose, so the
+    // sphere's and the patch's normals still point to the side they point to in the group.
+    TempDir dir;
+    dir.write("patch.obj", wavyPatchObj());
+    auto scene = loadScene(R"(<scene><integrator type="normals"/><camera type="perspective"/>
+        <mesh type="shapegroup" id="g"><mesh type="sphere"/>
+            <mesh type="obj"><string name="filename" value="patch.obj"/>
+                <transform name="toWorld"><translate value="3,-2,0"/></transform></mesh></mesh>
+        <mesh type="instance"><ref id="g"/><transform name="toWorld"><scale value="-1,1,1"/></transform></mesh>
+    </scene>)",
+                           dir.path().string());
+    Intersection its;
+    REQUIRE(scene->rayIntersect(Ray3f(Point3f(5, 0.1f, 0.2f), Vector3f(-1, 0, 0)), its));
+    CHECK(close(its.geoFrame.n, its.p.normalized(), 1e-4f));
+    CHECK(close(its.shFrame.n, its.p.normalized(), 1e-4f));
+    // The patch, now around x = −3, still faces up (+y) where it faced up.
+    REQUIRE(scene->rayIntersect(Ray3f(Point3f(-3.05f, 3, 0.05f), Vector3f(0, -1, 0)), its));
+    CHECK(its.geoFrame.n.y() > 0.5f);
+    CHECK(its.shFrame.n.y() > 0.5f);
+}
+
 TEST_CASE("Nested groups place their instances through every level", "[instancing]") {
     // ball (r = 0.25 at the origin) -> pair (two balls 1 apart in x) -> quad (two pairs 2
     // apart in y) -> two quads placed in the scene, one translated by (0, 0, -5) and one
@@ -277,8 +299,9 @@ TEST_CASE("Nested groups place their instances through every level", "[instancin
     std::string deep = R"(<scene><integrator type="normals"/><camera type="perspective"/>
         <mesh type="shapegroup" id="g0"><mesh type="sphere"/></mesh>)";
     for (int level = 1; level <= 9; ++level)
-        deep += fmt::format(R"(<mesh type="shapegroup" id="g{}"><mesh type="instance"><ref id="g{}"/></mesh></mesh>)",
-                            level, level - 1);
+        deep += fmt::format(
+            R"(<mesh type="shapegroup" id="g{}"><mesh type="instance"><ref id="g{}"/></mesh></mesh>)",
+            level, level - 1);
     deep += R"(<mesh type="instance"><ref id="g9"/></mesh></scene>)";
     CHECK_THAT(errorOf([&] { loadScene(deep); }), Contains("instances nest 9 levels deep"));
 }
@@ -362,23 +385,34 @@ TEST_CASE("Rays spawned from instanced surfaces never hit them again", "[instanc
     CHECK(reHits == 0);
 }
 
-TEST_CASE("An instance costs at most 128 bytes in the acceleration structure",
-          "[instancing]") {
+TEST_CASE("An instance costs at most 128 bytes in the acceleration structure", "[instancing]") {
     std::string xml = R"(<scene><integrator type="normals"/><camera type="perspective"/>
         <mesh type="shapegroup" id="g"><mesh type="sphere"/></mesh>)";
     PCG32 random(1, 2);
     const int count = 20000;
     for (int i = 0; i < count; ++i)
-        xml += fmt::format(R"(<mesh type="instance"><ref id="g"/><transform name="toWorld"><translate value="{}, {}, {}"/></transform></mesh>)",
-                           100 * random.nextFloat(), 100 * random.nextFloat(),
-                           100 * random.nextFloat());
+        xml += fmt::format(
+            R"(<mesh type="instance"><ref id="g"/><transform name="toWorld"><translate value="{}, {}, {}"/></transform></mesh>)",
+            100 * random.nextFloat(), 100 * random.nextFloat(), 100 * random.nextFloat());
     xml += "</scene>";
-    auto scene = loadScene(xml);
-    const Accel &accel = scene->getAccel();
-    REQUIRE(accel.instanceCount() == count);
-    const double perInstance = static_cast<double>(accel.memoryBytes()) / count;
-    INFO(perInstance << " bytes per instance, " << accel.instanceStatistics().nodes << " nodes");
-    CHECK(perInstance <= 128.0);
+    // The same placements as course-style tmesh copies of an invisible sphere.
+    std::string tmeshXml = R"(<scene><integrator type="normals"/><camera type="perspective"/>
+        <mesh type="sphere"><boolean name="visible" value="false"/>)";
+    for (size_t at = xml.find("<transform"); at != std::string::npos;
+         at = xml.find("<transform", at + 1))
+        tmeshXml += "<mesh type=\"tmesh\">" +
+                    xml.substr(at, xml.find("</transform>", at) + 12 - at) + "</mesh>";
+    tmeshXml += "</mesh></scene>";
+
+    for (const std::string *text : {&xml, &tmeshXml}) {
+        auto scene = loadScene(*text);
+        const Accel &accel = scene->getAccel();
+        REQUIRE(accel.instanceCount() == count);
+        const double perInstance = static_cast<double>(accel.memoryBytes()) / count;
+        INFO(perInstance << " bytes per instance, " << accel.instanceStatistics().nodes
+                         << " nodes");
+        CHECK(perInstance <= 128.0);
+    }
 }
 
 TEST_CASE("Bad instancing input gets a located error", "[instancing][errors]") {
@@ -411,9 +445,11 @@ TEST_CASE("Bad instancing input gets a located error", "[instancing][errors]") {
     CHECK_THAT(errorFor(R"(<mesh type="shapegroup" id="g"><mesh type="sphere">
   <emitter type="area"><color name="radiance" value="1"/></emitter></mesh></mesh>)"),
                Contains("cannot hold an area light"));
-    CHECK_THAT(errorFor(R"(<mesh type="sphere"><emitter type="area"><color name="radiance" value="1"/></emitter>
+    CHECK_THAT(
+        errorFor(
+            R"(<mesh type="sphere"><emitter type="area"><color name="radiance" value="1"/></emitter>
   <mesh type="tmesh"/></mesh>)"),
-               Contains("area light on a shape with tmesh copies is not supported"));
+        Contains("area light on a shape with tmesh copies is not supported"));
     // A shape inside a shape, and a projective placement.
     CHECK_THAT(errorFor(R"(<mesh type="sphere"><mesh type="sphere"/></mesh>)"),
                Contains("holds no other shapes"));
@@ -429,11 +465,10 @@ TEST_CASE("The meadow example: what nori-make-meadow writes, nested as flat", "[
     // instance of its own, transforms composed) hits like the three-level one.
     TempDir dir;
     const auto meadowDir = dir.path() / "meadow";
-    std::filesystem::create_directory_symlink(std::filesystem::path(NORI_SOURCE_DIR) /
-                                                  "scenes/textured",
-                                              dir.path() / "textured");
-    const auto made = nori::testing::runCommand(MAKE_MEADOW_EXECUTABLE,
-                                                {meadowDir.string(), "--flat"});
+    std::filesystem::create_directory_symlink(
+        std::filesystem::path(NORI_SOURCE_DIR) / "scenes/textured", dir.path() / "textured");
+    const auto made =
+        nori::testing::runCommand(MAKE_MEADOW_EXECUTABLE, {meadowDir.string(), "--flat"});
     REQUIRE(made.exitCode == 0);
     auto read = [](const std::filesystem::path &path) {
         std::ifstream in(path);
@@ -441,14 +476,15 @@ TEST_CASE("The meadow example: what nori-make-meadow writes, nested as flat", "[
         content << in.rdbuf();
         return content.str();
     };
-    const std::filesystem::path committed = std::filesystem::path(NORI_SOURCE_DIR) / "scenes/meadow";
+    const std::filesystem::path committed =
+        std::filesystem::path(NORI_SOURCE_DIR) / "scenes/meadow";
     CHECK(read(meadowDir / "meadow.xml") == read(committed / "meadow.xml"));
     CHECK(read(meadowDir / "blade.obj") == read(committed / "blade.obj"));
 
-    auto nested = std::dynamic_pointer_cast<Scene>(
-        loadFromXML((meadowDir / "meadow.xml").string()));
-    auto flat = std::dynamic_pointer_cast<Scene>(
-        loadFromXML((meadowDir / "meadow_flat.xml").string()));
+    auto nested =
+        std::dynamic_pointer_cast<Scene>(loadFromXML((meadowDir / "meadow.xml").string()));
+    auto flat =
+        std::dynamic_pointer_cast<Scene>(loadFromXML((meadowDir / "meadow_flat.xml").string()));
     REQUIRE(nested);
     REQUIRE(flat);
     CHECK(nested->getAccel().instanceCount() == 64);
@@ -460,8 +496,10 @@ TEST_CASE("The meadow example: what nori-make-meadow writes, nested as flat", "[
     int blades = 0, agree = 0;
     const int rays = 5000;
     for (int i = 0; i < rays; ++i) {
-        const Point3f origin(16.0f * random.nextFloat() - 8.0f, 1.0f, 16.0f * random.nextFloat() - 8.0f);
-        const Vector3f d = Vector3f(random.nextFloat() - 0.5f, -1.0f, random.nextFloat() - 0.5f).normalized();
+        const Point3f origin(16.0f * random.nextFloat() - 8.0f, 1.0f,
+                             16.0f * random.nextFloat() - 8.0f);
+        const Vector3f d =
+            Vector3f(random.nextFloat() - 0.5f, -1.0f, random.nextFloat() - 0.5f).normalized();
         Intersection a, b;
         const bool hitA = nested->rayIntersect(Ray3f(origin, d), a);
         const bool hitB = flat->rayIntersect(Ray3f(origin, d), b);

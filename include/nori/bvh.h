@@ -52,7 +52,8 @@ public:
     /// Primitives with empty or non-finite bounds are left out and counted.
     /// `intersectionCost` is a primitive test's cost in units of a box test (an instance,
     /// whose test is a whole traversal, costs more than a triangle).
-    void build(const std::vector<BoundingBox3f> &bounds, float intersectionCost = kIntersectionCost);
+    void build(const std::vector<BoundingBox3f> &bounds,
+               float intersectionCost = kIntersectionCost);
 
     /// Leaf slot -> index of the primitive passed to build().
     const std::vector<uint32_t> &primitiveOrder() const { return m_primitiveOrder; }

@@ -1,10 +1,10 @@
 // The root object of a render: shapes, integrator, camera and sampler.
 #pragma once
 
-#include <nori/instance.h>
 #include <nori/camera.h>
 #include <nori/dpdf.h>
 #include <nori/emitter.h>
+#include <nori/instance.h>
 #include <nori/integrator.h>
 #include <nori/sampler.h>
 

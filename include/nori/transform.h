@@ -72,9 +72,7 @@ public:
     Point3f applyToPoint(const Point3f &p) const {
         return Point3f(m_matrix.leftCols<3>() * p + m_matrix.col(3));
     }
-    Vector3f applyToVector(const Vector3f &v) const {
-        return Vector3f(m_matrix.leftCols<3>() * v);
-    }
+    Vector3f applyToVector(const Vector3f &v) const { return Vector3f(m_matrix.leftCols<3>() * v); }
     /// A normal under the inverse of this map: Aᵀ·n (the inverse transpose of A⁻¹), so
     /// a map to local space carries local normals to world ones (pbrt-v4 §3.10.3).
     Vector3f applyTransposeToNormal(const Vector3f &n) const {

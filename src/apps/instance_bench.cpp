@@ -44,20 +44,35 @@ void countedFree(void *block) {
 
 } // namespace
 
-void *operator new(size_t size) { return countedAllocation(std::malloc(size)); }
-void *operator new[](size_t size) { return countedAllocation(std::malloc(size)); }
-void *operator new(size_t size, std::align_val_t alignment) {
-    return countedAllocation(
-        std::aligned_alloc(static_cast<size_t>(alignment),
-                           (size + static_cast<size_t>(alignment) - 1) &
-                               ~(static_cast<size_t>(alignment) - 1)));
+void *operator new(size_t size) {
+    return countedAllocation(std::malloc(size));
 }
-void operator delete(void *block) noexcept { countedFree(block); }
-void operator delete[](void *block) noexcept { countedFree(block); }
-void operator delete(void *block, size_t) noexcept { countedFree(block); }
-void operator delete[](void *block, size_t) noexcept { countedFree(block); }
-void operator delete(void *block, std::align_val_t) noexcept { countedFree(block); }
-void operator delete(void *block, size_t, std::align_val_t) noexcept { countedFree(block); }
+void *operator new[](size_t size) {
+    return countedAllocation(std::malloc(size));
+}
+void *operator new(size_t size, std::align_val_t alignment) {
+    return countedAllocation(std::aligned_alloc(static_cast<size_t>(alignment),
+                                                (size + static_cast<size_t>(alignment) - 1) &
+                                                    ~(static_cast<size_t>(alignment) - 1)));
+}
+void operator delete(void *block) noexcept {
+    countedFree(block);
+}
+void operator delete[](void *block) noexcept {
+    countedFree(block);
+}
+void operator delete(void *block, size_t) noexcept {
+    countedFree(block);
+}
+void operator delete[](void *block, size_t) noexcept {
+    countedFree(block);
+}
+void operator delete(void *block, std::align_val_t) noexcept {
+    countedFree(block);
+}
+void operator delete(void *block, size_t, std::align_val_t) noexcept {
+    countedFree(block);
+}
 
 namespace {
 
@@ -65,7 +80,9 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-size_t heapBytes() { return g_liveBytes.load(); }
+size_t heapBytes() {
+    return g_liveBytes.load();
+}
 
 std::shared_ptr<NoriObject> create(const std::string &name, NoriObject::EClassType type,
                                    const PropertyList &props = {}) {
@@ -99,8 +116,8 @@ void measure(const std::shared_ptr<ShapeGroup> &group, size_t count) {
         const Vector3f axis(2.0f * random.nextFloat() - 1.0f, 2.0f * random.nextFloat() - 1.0f,
                             2.0f * random.nextFloat() - 1.0f);
         const Transform toWorld =
-            Transform::translate(side * Vector3f(random.nextFloat(), random.nextFloat(),
-                                                 random.nextFloat())) *
+            Transform::translate(
+                side * Vector3f(random.nextFloat(), random.nextFloat(), random.nextFloat())) *
             Transform::rotate(axis.norm() > 0.0f ? axis : Vector3f(0, 1, 0),
                               360.0f * random.nextFloat());
         props.setTransform("toWorld", toWorld);

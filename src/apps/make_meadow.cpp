@@ -41,9 +41,9 @@ void writeBlade(const std::string &filename) {
                 normal = -normal;
             for (int edge = 0; edge < 2; ++edge) {
                 const float x = edge == 0 ? -width : width;
-                out << fmt::format("v {:.5f} {:.5f} {:.5f}\nvt {:.4f} {:.4f}\nvn {:.5f} {:.5f} {:.5f}\n",
-                                   x, h, z, static_cast<float>(edge), h, normal.x(), normal.y(),
-                                   normal.z());
+                out << fmt::format(
+                    "v {:.5f} {:.5f} {:.5f}\nvt {:.4f} {:.4f}\nvn {:.5f} {:.5f} {:.5f}\n", x, h, z,
+                    static_cast<float>(edge), h, normal.x(), normal.y(), normal.z());
             }
         }
     }

@@ -36,8 +36,7 @@ void Accel::addInstance(const InstanceTarget *target, const Transform &toWorld) 
         throw NoriException("instances nest {} levels deep; at most {} are supported", depth,
                             kMaxInstanceDepth);
     m_instanceDepth = std::max(m_instanceDepth, depth);
-    auto [it, inserted] =
-        m_targetIndex.emplace(target, static_cast<uint32_t>(m_targets.size()));
+    auto [it, inserted] = m_targetIndex.emplace(target, static_cast<uint32_t>(m_targets.size()));
     if (inserted)
         m_targets.push_back(target);
     const AffineMap map = AffineMap::of(toWorld.getMatrix());
@@ -106,8 +105,7 @@ void Accel::build() {
 
 size_t Accel::memoryBytes() const {
     return m_bvh.nodeCount() * sizeof(BVHNode) + m_triangles.capacity() * sizeof(TriangleVertices) +
-           m_ids.capacity() * sizeof(PrimitiveId) +
-           m_instanceBvh.nodeCount() * sizeof(BVHNode) +
+           m_ids.capacity() * sizeof(PrimitiveId) + m_instanceBvh.nodeCount() * sizeof(BVHNode) +
            m_instances.capacity() * sizeof(InstanceRecord) +
            m_targets.capacity() * sizeof(const InstanceTarget *) +
            m_shapes.capacity() * (sizeof(const Shape *) + sizeof(uint8_t));
@@ -119,8 +117,9 @@ Ray3f Accel::toInstanceSpace(const AffineMap &toLocal, const Ray3f &ray, float t
     // The local origin lies within ±error of the exact image of ray.o: hits closer than
     // that along d may be the surface the ray was spawned from.
     const float lengthSquared = d.squaredNorm();
-    const float dt =
-        lengthSquared > 0.0f ? d.cwiseAbs().dot(toLocal.roundingError(ray.o)) / lengthSquared : 0.0f;
+    const float dt = lengthSquared > 0.0f
+                         ? d.cwiseAbs().dot(toLocal.roundingError(ray.o)) / lengthSquared
+                         : 0.0f;
     return Ray3f(o, d, std::max(ray.mint, dt), tMax);
 }
 
@@ -225,8 +224,8 @@ bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) co
         return true;
     }
     Ray3f localRay(toLocal.applyToPoint(ray.o), toLocal.applyToVector(ray.d), ray.mint, ray.maxt);
-    shape->setInstancedHitInformation(id.primIndex, localRay, hit.coords, toLocal.inverse(), toLocal,
-                                      its);
+    shape->setInstancedHitInformation(id.primIndex, localRay, hit.coords, toLocal.inverse(),
+                                      toLocal, its);
     if (reportedShape)
         its.shape = reportedShape;
     return true;

@@ -37,8 +37,7 @@ public:
         return m_parent.sampleSurface(sample);
     }
     std::string toString() const override {
-        return fmt::format("ShapeWithBSDF[{}, bsdf = {}]", m_parent.toString(),
-                           m_bsdf->toString());
+        return fmt::format("ShapeWithBSDF[{}, bsdf = {}]", m_parent.toString(), m_bsdf->toString());
     }
 
 private:
@@ -98,8 +97,8 @@ void TMeshSet::add(const TMesh &tmesh) {
 void TMeshSet::build() {
     m_accel.addShape(&m_parent);
     m_accel.build();
-    m_targets.push_back(std::make_unique<Accel::InstanceTarget>(
-        Accel::InstanceTarget{&m_accel, nullptr}));
+    m_targets.push_back(
+        std::make_unique<Accel::InstanceTarget>(Accel::InstanceTarget{&m_accel, nullptr}));
     // One view (and target) per distinct BSDF other than the parent's.
     std::vector<const BSDF *> viewBSDFs;
     for (size_t i = 0; i < m_placements.size(); ++i) {

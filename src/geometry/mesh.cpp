@@ -132,10 +132,12 @@ void Mesh::setShadingFrame(uint32_t index, float b1, float b2, const AffineMap *
     if (m_normals.empty())
         return;
     // The mesh's uvs, or the barycentric parameterisation (as in setHitInformation).
-    const Vector2f duv1 = m_texCoords.empty() ? Vector2f(1.0f, 0.0f)
-                                              : Vector2f(m_texCoords[face[1]] - m_texCoords[face[0]]);
-    const Vector2f duv2 = m_texCoords.empty() ? Vector2f(0.0f, 1.0f)
-                                              : Vector2f(m_texCoords[face[2]] - m_texCoords[face[0]]);
+    const Vector2f duv1 = m_texCoords.empty()
+                              ? Vector2f(1.0f, 0.0f)
+                              : Vector2f(m_texCoords[face[1]] - m_texCoords[face[0]]);
+    const Vector2f duv2 = m_texCoords.empty()
+                              ? Vector2f(0.0f, 1.0f)
+                              : Vector2f(m_texCoords[face[2]] - m_texCoords[face[0]]);
     const float determinant = duv1.x() * duv2.y() - duv1.y() * duv2.x();
     if (std::abs(determinant) > 1e-12f) {
         const Vector3f dn1 = normals[1] - normals[0], dn2 = normals[2] - normals[0];

@@ -153,10 +153,10 @@ void Shape::setInstancedHitInformation(uint32_t index, const Ray3f &ray, const P
     const Vector3f shadingNormal = worldNormal.normalized();
     Vector3f tangent = toWorld.applyToVector(its.shFrame.s);
     tangent -= shadingNormal * shadingNormal.dot(tangent);
-    its.shFrame = tangent.squaredNorm() > 1e-20f
-                      ? Frame(tangent.normalized(), shadingNormal.cross(tangent.normalized()),
-                              shadingNormal)
-                      : Frame(shadingNormal);
+    its.shFrame =
+        tangent.squaredNorm() > 1e-20f
+            ? Frame(tangent.normalized(), shadingNormal.cross(tangent.normalized()), shadingNormal)
+            : Frame(shadingNormal);
     its.dpdu = toWorld.applyToVector(its.dpdu);
     its.dpdv = toWorld.applyToVector(its.dpdv);
     // The normal field maps by Aᵀ and is then normalised: its derivatives scale by the

@@ -49,11 +49,10 @@ std::string Scene::statisticsSummary() const {
         if (dynamic_cast<const Mesh *>(shape.get()))
             triangles += shape->getPrimitiveCount();
     const Accel &accel = m_contents.accel();
-    const std::string instances =
-        accel.instanceCount() == 0
-            ? ""
-            : fmt::format(" and {} instances ({} levels)", accel.instanceCount(),
-                          accel.instanceDepth());
+    const std::string instances = accel.instanceCount() == 0
+                                      ? ""
+                                      : fmt::format(" and {} instances ({} levels)",
+                                                    accel.instanceCount(), accel.instanceDepth());
     return fmt::format("{} shapes ({} triangles), {} emitters; BVH of {} primitives{} built in {}",
                        getShapes().size(), triangles, m_emitters.size(),
                        accel.statistics().primitives, instances,
