@@ -5,6 +5,7 @@
 #include <nori/instance.h>
 #include <nori/parser.h>
 #include <nori/pcg32.h>
+#include <nori/warp.h>
 
 #include "testutil.h"
 
@@ -80,9 +81,20 @@ std::pair<std::string, std::string> patchScenes(int count, uint64_t seed) {
 }
 
 Vector3f randomDirection(PCG32 &random) {
-    const float z = 1.0f - 2.0f * random.nextFloat(), phi = 2.0f * kPi * random.nextFloat();
-    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-    return Vector3f(r * std::cos(phi), r * std::sin(phi), z);
+    return Warp::squareToUniformSphere(Point2f(random.nextFloat(), random.nextFloat()));
+}
+
+/// A scene of one instance, placed by `transformXml`, of a group holding the unit sphere
+/// and the patch moved by `patchOffset`.
+std::string sphereAndPatchInstance(const std::string &patchOffset,
+                                   const std::string &transformXml) {
+    return fmt::format(R"(<scene><integrator type="normals"/><camera type="perspective"/>
+        <mesh type="shapegroup" id="g"><mesh type="sphere"/>
+            <mesh type="obj"><string name="filename" value="patch.obj"/>
+                <transform name="toWorld"><translate value="{}"/></transform></mesh></mesh>
+        <mesh type="instance"><ref id="g"/><transform name="toWorld">{}</transform></mesh>
+    </scene>)",
+                       patchOffset, transformXml);
 }
 
 /// A ray from a sphere of radius 12 toward a random point of the central region.
@@ -239,12 +251,7 @@ TEST_CASE("A mirrored instance keeps its normals outward", "[instancing]") {
     // sphere's and the patch's normals still point to the side they point to in the group.
     TempDir dir;
     dir.write("patch.obj", wavyPatchObj());
-    auto scene = loadScene(R"(<scene><integrator type="normals"/><camera type="perspective"/>
-        <mesh type="shapegroup" id="g"><mesh type="sphere"/>
-            <mesh type="obj"><string name="filename" value="patch.obj"/>
-                <transform name="toWorld"><translate value="3,-2,0"/></transform></mesh></mesh>
-        <mesh type="instance"><ref id="g"/><transform name="toWorld"><scale value="-1,1,1"/></transform></mesh>
-    </scene>)",
+    auto scene = loadScene(sphereAndPatchInstance("3,-2,0", R"(<scale value="-1,1,1"/>)"),
                            dir.path().string());
     Intersection its;
     REQUIRE(scene->rayIntersect(Ray3f(Point3f(5, 0.1f, 0.2f), Vector3f(-1, 0, 0)), its));
@@ -351,13 +358,8 @@ TEST_CASE("Rays spawned from instanced surfaces never hit them again", "[instanc
     // non-uniform scale: large coordinates make the transform's rounding matter.
     TempDir dir;
     dir.write("patch.obj", wavyPatchObj());
-    auto scene = loadScene(R"(<scene><integrator type="normals"/><camera type="perspective"/>
-        <mesh type="shapegroup" id="g"><mesh type="sphere"/>
-            <mesh type="obj"><string name="filename" value="patch.obj"/>
-                <transform name="toWorld"><translate value="0,-1.5,0"/></transform></mesh></mesh>
-        <mesh type="instance"><ref id="g"/><transform name="toWorld">
-            <scale value="300, 200, 350"/><rotate axis="1,1,1" angle="33"/><translate value="1000,-1000,500"/>
-        </transform></mesh></scene>)",
+    auto scene = loadScene(sphereAndPatchInstance("0,-1.5,0", R"(<scale value="300, 200, 350"/>
+            <rotate axis="1,1,1" angle="33"/><translate value="1000,-1000,500"/>)"),
                            dir.path().string());
     const Point3f centre(1000, -1000, 500);
     PCG32 random(9, 10);
