@@ -80,6 +80,9 @@ class Exporter:
         self.max_depth = max_depth
         self.warnings = []
         self.meshes = {}    # (mesh key, material index) -> OBJ path relative to the scene
+        # (mesh key, materials) -> [(files, materials, nori toWorld value, owner)]: every
+        # placement of a geometry, written once all are known (export_placements)
+        self.placements = {}
         self.textures = {}  # image name -> path relative to the scene
         self.root = ET.Element("scene")
 
@@ -100,6 +103,7 @@ class Exporter:
         self.export_world()
         for instance in self.depsgraph.object_instances:
             self.export_instance(instance)
+        self.export_placements()
         ET.indent(self.root, space="    ")
         header = "<?xml version=\"1.0\"?>\n<!-- Exported from Blender by blender/io_scene_nori.py -->\n"
         with open(self.filepath, "w", encoding="utf-8") as file:
@@ -319,14 +323,43 @@ class Exporter:
         files = self.write_obj(obj, key, len(slots), owner)
         if files is None:
             return
-        transform_value = matrix_value(Z_UP_TO_Y_UP @ world)
-        for material_index, path in files:
-            material = slots[min(material_index, len(slots) - 1)]
-            mesh = ET.SubElement(self.root, "mesh", type="obj")
-            ET.SubElement(mesh, "string", name="filename", value=path)
-            transform = ET.SubElement(mesh, "transform", name="toWorld")
-            ET.SubElement(transform, "matrix", value=transform_value)
-            self.export_material(mesh, material, owner)
+        materials = tuple(slots[min(index, len(slots) - 1)] for index, _ in files)
+        group_key = (key, tuple(m.name if m else None for m in materials))
+        self.placements.setdefault(group_key, []).append(
+            (files, materials, matrix_value(Z_UP_TO_Y_UP @ world), owner))
+
+    def export_placements(self):
+        """A geometry placed once becomes <mesh type="obj"> elements with their toWorld; one
+        placed several times (linked duplicates, particle and collection instances) a
+        shape group, written once, and an instance per placement, so that nori builds
+        its BVH once. Emissive geometry stays separate copies: nori's instances do not
+        emit."""
+        for number, placements in enumerate(self.placements.values()):
+            files, materials, _, owner = placements[0]
+            group = None
+            if len(placements) > 1:
+                group = ET.Element("mesh", type="shapegroup", id=f"group{number}")
+                for (_, path), material in zip(files, materials):
+                    mesh = ET.SubElement(group, "mesh", type="obj")
+                    ET.SubElement(mesh, "string", name="filename", value=path)
+                    self.export_material(mesh, material, owner)
+                if group.find("mesh/emitter") is not None:
+                    group = None
+            if group is not None:
+                self.root.append(group)
+                for _, _, transform_value, _ in placements:
+                    instance = ET.SubElement(self.root, "mesh", type="instance")
+                    ET.SubElement(instance, "ref", id=group.get("id"))
+                    transform = ET.SubElement(instance, "transform", name="toWorld")
+                    ET.SubElement(transform, "matrix", value=transform_value)
+                continue
+            for files, materials, transform_value, owner in placements:
+                for (_, path), material in zip(files, materials):
+                    mesh = ET.SubElement(self.root, "mesh", type="obj")
+                    ET.SubElement(mesh, "string", name="filename", value=path)
+                    transform = ET.SubElement(mesh, "transform", name="toWorld")
+                    ET.SubElement(transform, "matrix", value=transform_value)
+                    self.export_material(mesh, material, owner)
 
     def write_obj(self, obj, key, slot_count, owner):
         """Writes the evaluated mesh's triangles, one OBJ per material index used; returns

@@ -8,7 +8,7 @@ Usage: test_blender.py BLENDER NORI IMGTOOL WORKDIR
    a Glossy and a Toon BSDF, two of them linked duplicates of one mesh, a camera, a sun,
    an area light, a world colour) and saves it;
 2. blender/export.py exports it; the warnings must name the Toon BSDF and its object, the
-   linked duplicates must share one OBJ file;
+   linked duplicates must become one shape group (one OBJ file) and two instances;
 3. nori renders the export and handwritten.xml (the same scene written by hand): the
    export must differ from the hand-written scene by no more than two renders of the
    hand-written scene with different seeds differ from each other (noise);
@@ -87,10 +87,12 @@ check(any("object 'Toon'" in w and "Toon BSDF" in w and "not supported" in w for
       f"the export warns about the Toon BSDF, naming its object: {warnings}")
 check(len(warnings) == 1, f"nothing else is reported unmapped ({len(warnings)} warnings)")
 scene_text = open(exported).read()
-check(scene_text.count('value="meshes/RedBox.obj"') == 2 and
+check(scene_text.count('value="meshes/RedBox.obj"') == 1 and
+      scene_text.count('<mesh type="shapegroup"') == 1 and
+      scene_text.count('<mesh type="instance">') == 2 and
       len([f for f in os.listdir(os.path.join(WORKDIR, "export", "meshes"))
            if f.startswith("RedBox")]) == 1,
-      "the linked duplicates share one OBJ file")
+      "the linked duplicates are one shape group (one OBJ file) placed by two instances")
 check(os.path.exists(os.path.join(WORKDIR, "export", "textures", "checker.png")),
       "the image texture is copied beside the scene")
 # The add-on's menu entry: registered as Blender registers add-ons, run as File > Export
