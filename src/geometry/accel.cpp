@@ -104,11 +104,14 @@ void Accel::build() {
 }
 
 size_t Accel::memoryBytes() const {
+    // NOLINTBEGIN(bugprone-sizeof-expression): two of the vectors hold pointers, whose
+    // size is what they cost.
     return m_bvh.nodeCount() * sizeof(BVHNode) + m_triangles.capacity() * sizeof(TriangleVertices) +
            m_ids.capacity() * sizeof(PrimitiveId) + m_instanceBvh.nodeCount() * sizeof(BVHNode) +
            m_instances.capacity() * sizeof(InstanceRecord) +
-           m_targets.capacity() * sizeof(const InstanceTarget *) +
-           m_shapes.capacity() * (sizeof(const Shape *) + sizeof(uint8_t));
+           m_targets.capacity() * sizeof(decltype(m_targets)::value_type) +
+           m_shapes.capacity() * sizeof(decltype(m_shapes)::value_type) + m_isMesh.capacity();
+    // NOLINTEND(bugprone-sizeof-expression)
 }
 
 Ray3f Accel::toInstanceSpace(const AffineMap &toLocal, const Ray3f &ray, float tMax) {
