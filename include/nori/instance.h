@@ -10,6 +10,7 @@
 
 #include <nori/accel.h>
 
+#include <unordered_map>
 #include <unordered_set>
 
 namespace nori {
@@ -72,10 +73,12 @@ public:
 private:
     const Shape &m_parent;
     Accel m_accel;
-    std::vector<std::unique_ptr<Accel::InstanceTarget>> m_targets; ///< [0]: the parent's BSDF
+    std::vector<std::unique_ptr<Accel::InstanceTarget>> m_targets; ///< front(): the parent's BSDF
     std::vector<std::shared_ptr<Shape>> m_views;                   ///< one per other BSDF
-    std::vector<std::pair<uint32_t, Transform>> m_placements;      ///< (target, toWorld)
-    std::vector<std::shared_ptr<BSDF>> m_pendingBSDFs;             ///< per copy, until build()
+    /// The target of each view's BSDF.
+    std::unordered_map<const BSDF *, const Accel::InstanceTarget *> m_targetOfBSDF;
+    /// (own BSDF or nullptr, toWorld) per copy, until placeInto().
+    std::vector<std::pair<std::shared_ptr<BSDF>, Transform>> m_copies;
 };
 
 /// The shapes and placements a scene or a shape group holds, and the Accel over them.

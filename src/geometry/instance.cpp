@@ -89,9 +89,7 @@ std::string TMesh::toString() const {
 TMeshSet::TMeshSet(const Shape &parent) : m_parent(parent) {}
 
 void TMeshSet::add(const TMesh &tmesh) {
-    // Until build(), the target index is a placeholder; the BSDF decides it there.
-    m_pendingBSDFs.push_back(tmesh.bsdf());
-    m_placements.emplace_back(0, tmesh.toWorld());
+    m_copies.emplace_back(tmesh.bsdf(), tmesh.toWorld());
 }
 
 void TMeshSet::build() {
@@ -100,28 +98,23 @@ void TMeshSet::build() {
     m_targets.push_back(
         std::make_unique<Accel::InstanceTarget>(Accel::InstanceTarget{&m_accel, nullptr}));
     // One view (and target) per distinct BSDF other than the parent's.
-    std::vector<const BSDF *> viewBSDFs;
-    for (size_t i = 0; i < m_placements.size(); ++i) {
-        const std::shared_ptr<BSDF> &bsdf = m_pendingBSDFs[i];
-        if (!bsdf || bsdf.get() == m_parent.getBSDF())
+    for (const auto &[bsdf, toWorld] : m_copies) {
+        if (!bsdf || bsdf.get() == m_parent.getBSDF() || m_targetOfBSDF.count(bsdf.get()))
             continue;
-        auto it = std::find(viewBSDFs.begin(), viewBSDFs.end(), bsdf.get());
-        if (it == viewBSDFs.end()) {
-            viewBSDFs.push_back(bsdf.get());
-            m_views.push_back(std::make_shared<ShapeWithBSDF>(m_parent, bsdf));
-            m_targets.push_back(std::make_unique<Accel::InstanceTarget>(
-                Accel::InstanceTarget{&m_accel, m_views.back().get()}));
-            it = viewBSDFs.end() - 1;
-        }
-        m_placements[i].first = static_cast<uint32_t>(1 + (it - viewBSDFs.begin()));
+        m_views.push_back(std::make_shared<ShapeWithBSDF>(m_parent, bsdf));
+        m_targets.push_back(std::make_unique<Accel::InstanceTarget>(
+            Accel::InstanceTarget{&m_accel, m_views.back().get()}));
+        m_targetOfBSDF.emplace(bsdf.get(), m_targets.back().get());
     }
-    decltype(m_pendingBSDFs)().swap(m_pendingBSDFs); // frees it (`= {}` keeps the capacity)
 }
 
 void TMeshSet::placeInto(Accel &accel) {
-    for (const auto &[target, toWorld] : m_placements)
-        accel.addInstance(m_targets[target].get(), toWorld);
-    decltype(m_placements)().swap(m_placements);
+    for (const auto &[bsdf, toWorld] : m_copies) {
+        auto view = bsdf ? m_targetOfBSDF.find(bsdf.get()) : m_targetOfBSDF.end();
+        accel.addInstance(view != m_targetOfBSDF.end() ? view->second : m_targets.front().get(),
+                          toWorld);
+    }
+    decltype(m_copies)().swap(m_copies); // frees it (`= {}` would keep the capacity)
 }
 
 bool TMeshSet::usesFootprint() const {
