@@ -14,6 +14,10 @@ find_package(Threads REQUIRED)
 # shared library whose classes change with its feature macros (OpenSSL, zlib, Brotli), so
 # its flags come from its pkg-config file rather than being guessed.
 find_package(PkgConfig REQUIRED)
+# NanoVDB (libnanovdb-dev, header-only): heterogeneous media read its grid files.
+find_path(NANOVDB_INCLUDE_DIR nanovdb/NanoVDB.h REQUIRED)
+add_library(nori_nanovdb INTERFACE)
+target_include_directories(nori_nanovdb SYSTEM INTERFACE ${NANOVDB_INCLUDE_DIR})
 pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
 
 # stb's image writer is compiled once, here, with our own flags.
@@ -26,4 +30,4 @@ target_compile_options(nori_stb PRIVATE -w -fno-sanitize=shift)
 add_library(nori_ext INTERFACE)
 target_link_libraries(nori_ext INTERFACE Eigen3::Eigen pugixml::pugixml TBB::tbb fmt::fmt
                       tinyexr::tinyexr nori_stb PNG::PNG JPEG::JPEG Threads::Threads
-                      PkgConfig::HTTPLIB)
+                      PkgConfig::HTTPLIB nori_nanovdb)

@@ -17,6 +17,7 @@ packages=(
     libtbb-dev              # parallel render loop
     libfmt-dev              # message formatting
     pkg-config libcpp-httplib-dev  # the HTTP server of the browser preview (--preview)
+    libnanovdb-dev          # NanoVDB grid files of heterogeneous media (header-only)
 )
 if [ "${1:-}" = "--test" ]; then
     packages+=(

@@ -42,6 +42,9 @@ public:
     virtual float pdf(const BSDFQueryRecord &bRec) const = 0;
     /// Whether the BSDF is (mostly) diffuse, so that light sampling pays off.
     virtual bool isDiffuse() const { return false; }
+    /// Whether this is the `null` BSDF, no surface at all: an index-matched boundary of a
+    /// medium, which volumetric path tracing crosses without a bounce.
+    virtual bool isNull() const { return false; }
     /// The directional albedo for light from bRec.wi: the fraction of it scattered,
     /// ∫ f(wi, wo) |cos θo| dwo, at the textured point of bRec (the `albedo` AOV, a
     /// denoiser's guide). The default estimates it from sample() with a fixed 8 × 8 grid

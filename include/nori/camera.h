@@ -2,6 +2,7 @@
 #pragma once
 
 #include <nori/color.h>
+#include <nori/medium.h>
 #include <nori/object.h>
 #include <nori/ray.h>
 #include <nori/rfilter.h>
@@ -31,8 +32,10 @@ public:
 
     const Vector2i &getOutputSize() const { return m_outputSize; }
     const ReconstructionFilter *getReconstructionFilter() const { return m_rfilter.get(); }
+    /// The medium the camera sits in (a <medium> child), or nullptr for vacuum.
+    const Medium *getMedium() const { return m_medium.get(); }
 
-    /// Accepts one <rfilter>.
+    /// Accepts one <rfilter> and one <medium>.
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     /// Checks the image size against kMaxImageSide and kMaxImagePixels and creates the
     /// default gaussian filter (Nori's default) when none was given.
@@ -60,6 +63,7 @@ protected:
 
     Vector2i m_outputSize;
     std::shared_ptr<ReconstructionFilter> m_rfilter;
+    std::shared_ptr<Medium> m_medium;
 };
 
 } // namespace nori

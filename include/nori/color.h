@@ -34,6 +34,8 @@ struct Color3f : public Eigen::Array3f {
         return std::isfinite(r()) && std::isfinite(g()) && std::isfinite(b()) && r() >= 0.0f &&
                g() >= 0.0f && b() >= 0.0f;
     }
+    /// "[r, g, b]", for messages.
+    std::string toString() const;
     /// sRGB transfer curve (IEC 61966-2-1) applied per component.
     Color3f toSRGB() const;
     /// Inverse of toSRGB.

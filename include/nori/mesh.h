@@ -29,6 +29,9 @@ public:
 
     float surfaceArea(uint32_t index) const;
     float getArea() const override { return m_triangleAreas.getSum(); }
+    /// Whether every edge (between vertices at the same positions, so uv and normal seams
+    /// do not count as borders) is shared by an even number of triangles.
+    bool isClosed() const override;
     /// A triangle chosen by area, then a uniform point on it (PBR 4th ed. §6.5.4); the
     /// normal is the geometric one on the side of the vertex normals.
     ShapeSample sampleSurface(const Point2f &sample) const override;

@@ -24,6 +24,13 @@ Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSD
                           const Vector3f &wiLocal, bool mis, float emitterSample,
                           const Point2f &sample);
 
+/// The emission `emitter` sends along a scattered (or camera) ray that found it: all of it
+/// after a specular event, else weighted by the balance heuristic against next-event
+/// estimation, whose density is the pmf of sampleEmitter times the light's own.
+/// `scatterPdf` is the solid-angle density with which the last vertex chose the ray.
+Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const EmitterQueryRecord &lRec,
+                        bool specularBounce, float scatterPdf);
+
 class PathTracer : public Integrator {
 public:
     enum class Strategy {

@@ -4,6 +4,7 @@
 
 #include <nori/bbox.h>
 #include <nori/frame.h>
+#include <nori/medium.h>
 #include <nori/object.h>
 #include <nori/texture.h>
 #include <nori/transform.h>
@@ -113,15 +114,28 @@ public:
     const BoundingBox3f &getBoundingBox() const { return m_bbox; }
     const BSDF *getBSDF() const { return m_bsdf.get(); }
     std::shared_ptr<BSDF> getBSDFPtr() const { return m_bsdf; }
+    /// The media inside and outside the surface (nullptr: vacuum).
+    MediumInterface getMediumInterface() const {
+        return {m_interior.get(), m_exterior.get()};
+    }
+    /// Whether the shape bounds a medium (an `interior` or `exterior` child): rays crossing
+    /// it change medium; a shape without one leaves a ray in the medium it was in.
+    bool hasMediumInterface() const { return m_interior || m_exterior; }
+    /// Whether the surface encloses a volume (every edge shared by an even number of
+    /// triangles), which a medium inside it needs.
+    virtual bool isClosed() const { return true; }
     /// The area light on this shape, or nullptr.
     const Emitter *getEmitter() const { return m_emitter.get(); }
     std::shared_ptr<Emitter> getEmitterPtr() const { return m_emitter; }
 
-    /// Accepts one <bsdf>, one <emitter> (which becomes an area light on the shape) and
-    /// any number of <mesh type="tmesh"> copies.
+    /// Accepts one <bsdf>, one <emitter> (which becomes an area light on the shape), a
+    /// <medium> named "interior" and one named "exterior", and any number of
+    /// <mesh type="tmesh"> copies.
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
-    /// Gives a shape without a BSDF the default diffuse one (Nori's behaviour); builds
-    /// the tmesh copies' shared Accel. Area lights on copied shapes are refused.
+    /// Gives a shape without a BSDF the default diffuse one (Nori's behaviour), or the
+    /// `null` one when it bounds a medium; warns when a medium boundary is not closed;
+    /// builds the tmesh copies' shared Accel. Area lights and media on copied shapes are
+    /// refused.
     void activate() override;
 
     EClassType getClassType() const override { return kClassType; }
@@ -140,6 +154,7 @@ protected:
     float m_bumpScale = 1.0f;
     std::shared_ptr<BSDF> m_bsdf;
     std::shared_ptr<Emitter> m_emitter;
+    std::shared_ptr<Medium> m_interior, m_exterior;
     bool m_visible = true;
     std::shared_ptr<TMeshSet> m_tmeshes;
 };

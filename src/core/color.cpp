@@ -2,6 +2,8 @@
 
 namespace nori {
 
+std::string Color3f::toString() const { return fmt::format("[{}, {}, {}]", r(), g(), b()); }
+
 Color3f Color3f::toSRGB() const {
     Color3f result;
     for (int i = 0; i < 3; ++i) {

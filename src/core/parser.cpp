@@ -517,7 +517,7 @@ private:
 
     static bool isDeclarationKind(NoriObject::EClassType type) {
         return type == NoriObject::EBSDF || type == NoriObject::ETexture ||
-               type == NoriObject::EPhaseFunction;
+               type == NoriObject::EPhaseFunction || type == NoriObject::EMedium;
     }
 
     void parseRef(const std::string &location, std::map<std::string, std::string> &attributes,

@@ -168,6 +168,10 @@ void ShapeGroup::addChild(const std::shared_ptr<NoriObject> &child, const std::s
     if (const auto *shape = dynamic_cast<const Shape *>(child.get()); shape && shape->getEmitter())
         throw NoriException("a shape group cannot hold an area light (instanced geometry does "
                             "not emit): put the emitting mesh in the scene itself");
+    if (const auto *shape = dynamic_cast<const Shape *>(child.get());
+        shape && shape->hasMediumInterface())
+        throw NoriException("a shape group cannot hold a medium boundary: put the shape with the "
+                            "medium in the scene itself");
     m_contents.add(child);
     if (dynamic_cast<const Shape *>(child.get()))
         ++m_shapeCount;

@@ -1,7 +1,10 @@
 #include <nori/mesh.h>
 #include <nori/triangle.h>
 
+#include <array>
 #include <iostream>
+#include <map>
+#include <unordered_map>
 
 namespace nori {
 
@@ -256,6 +259,26 @@ void Mesh::computeTangents() {
         for (int i = 0; i < 3; ++i)
             m_tangents[face[i]] += dpdu;
     }
+}
+
+bool Mesh::isClosed() const {
+    // Vertices at the same position are one vertex here.
+    std::map<std::array<float, 3>, uint32_t> positionIds;
+    std::vector<uint32_t> idOfVertex(m_positions.size());
+    for (size_t i = 0; i < m_positions.size(); ++i) {
+        const Point3f &p = m_positions[i];
+        idOfVertex[i] = positionIds.emplace(std::array<float, 3>{p.x(), p.y(), p.z()},
+                                            uint32_t(positionIds.size()))
+                            .first->second;
+    }
+    std::unordered_map<uint64_t, uint32_t> edgeUses;
+    for (const Vector3i &face : m_faces)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = idOfVertex[face[k]], b = idOfVertex[face[(k + 1) % 3]];
+            ++edgeUses[(uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
+        }
+    return std::all_of(edgeUses.begin(), edgeUses.end(),
+                       [](const auto &edge) { return edge.second % 2 == 0; });
 }
 
 std::string Mesh::toString() const {

@@ -6,6 +6,8 @@
 #include <nori/rayerror.h>
 #include <nori/shape.h>
 
+#include <iostream>
+
 namespace nori {
 
 Ray3f Intersection::spawnRay(const Vector3f &d) const {
@@ -179,6 +181,13 @@ void Shape::addChild(const std::shared_ptr<NoriObject> &child, const std::string
     } else if (child->getClassType() == EEmitter) {
         setUniqueChild(m_emitter, child, "a shape");
         m_emitter->setShape(this);
+    } else if (child->getClassType() == EMedium) {
+        if (name != "interior" && name != "exterior")
+            throw NoriException("a shape's medium is named \"interior\" or \"exterior\", not "
+                                "\"{}\"",
+                                name);
+        setUniqueChild(name == "interior" ? m_interior : m_exterior, child,
+                       name == "interior" ? "a shape's interior" : "a shape's exterior");
     } else if (const auto *tmesh = dynamic_cast<const TMesh *>(child.get())) {
         if (!m_tmeshes)
             m_tmeshes = std::make_shared<TMeshSet>(*this);
@@ -214,11 +223,19 @@ void Shape::activate() {
                             "usable triangles)",
                             toString());
     if (!m_bsdf)
-        m_bsdf = createDefault<BSDF>("diffuse");
+        m_bsdf = createDefault<BSDF>(hasMediumInterface() ? "null" : "diffuse");
+    if (m_interior && !isClosed())
+        std::cerr << fmt::format("Warning: {} has an interior medium but is not closed (some "
+                                 "edges border one triangle): rays can reach the medium without "
+                                 "entering it\n",
+                                 toString());
     if (m_tmeshes) {
         if (m_emitter)
             throw NoriException("an area light on a shape with tmesh copies is not supported: "
                                 "instanced geometry does not emit (give each light its own mesh)");
+        if (hasMediumInterface())
+            throw NoriException("a medium on a shape with tmesh copies is not supported: give "
+                                "each medium boundary its own mesh");
         m_tmeshes->build();
     }
     if (!m_visible && m_emitter)

@@ -5,6 +5,8 @@ namespace nori {
 void Camera::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
     if (child->getClassType() == EReconstructionFilter)
         setUniqueChild(m_rfilter, child, "a camera");
+    else if (child->getClassType() == EMedium)
+        setUniqueChild(m_medium, child, "a camera");
     else
         NoriObject::addChild(child, name);
 }

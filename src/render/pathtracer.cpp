@@ -118,12 +118,16 @@ Color3f PathTracer::foundEmission(const Scene *scene, const Emitter &emitter,
         return emitter.eval(lRec);
     if (m_strategy == Strategy::Light)
         return Color3f(0.0f); // next-event estimation counted this light already
-    // The balance heuristic against light sampling, with the pmf sampleEmitter uses.
+    return emissionWithMIS(scene, emitter, lRec, false, bsdfPdf);
+}
+
+Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const EmitterQueryRecord &lRec,
+                        bool specularBounce, float scatterPdf) {
     const Color3f le = emitter.eval(lRec);
-    if ((le == 0.0f).all())
+    if (specularBounce || (le == 0.0f).all())
         return le;
     const float lightPdf = scene->emitterPmf(&emitter) * emitter.pdf(lRec);
-    return le * (bsdfPdf / (bsdfPdf + lightPdf));
+    return le * (scatterPdf / (scatterPdf + lightPdf));
 }
 
 std::string PathTracer::toString() const {
