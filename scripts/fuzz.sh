@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the fuzz targets with clang, libFuzzer, ASan and UBSan, and fuzzes each one.
-#   scripts/fuzz.sh [--seconds N] [--build DIR] [xml] [obj] [image] [lens]
+#   scripts/fuzz.sh [--seconds N] [--build DIR] [xml] [obj] [image] [lens] [volume]
 # Prints libFuzzer's figures (executions, coverage) and exits non-zero when a target
 # crashed, leaked, hit undefined behaviour or threw anything but a NoriException; the
 # input that did it is in DIR/artifacts/. New interesting inputs go to DIR/corpus-<target>.
@@ -13,11 +13,11 @@ while (($#)); do
     case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
-    xml | obj | image | lens) targets+=("$1"); shift ;;
-    *) echo "usage: $0 [--seconds N] [--build DIR] [xml] [obj] [image] [lens]" >&2; exit 2 ;;
+    xml | obj | image | lens | volume) targets+=("$1"); shift ;;
+    *) echo "usage: $0 [--seconds N] [--build DIR] [xml] [obj] [image] [lens] [volume]" >&2; exit 2 ;;
     esac
 done
-((${#targets[@]})) || targets=(xml obj image lens)
+((${#targets[@]})) || targets=(xml obj image lens volume)
 
 cmake -S "$here" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DNORI_FUZZ=ON -DNORI_BUILD_TESTS=OFF > "$build.configure.log" 2>&1 ||
@@ -32,13 +32,18 @@ for target in "${targets[@]}"; do
     obj) seeds=("$here/tests/fuzz/corpus/obj" "$here/tests/badinput" "$here/scenes/cbox/meshes") ;;
     image) seeds=("$here/tests/fuzz/corpus/image" "$here/scenes/textured/textures") ;;
     lens) seeds=("$here/tests/fuzz/corpus/lens" "$here/scenes/lenses") ;;
+    volume) seeds=("$here/tests/fuzz/corpus/volume" "$here/scenes/media") ;;
     esac
+    # The smallest NanoVDB file is about 300 KB (a root, one upper node of 32^3 entries),
+    # so the volume target takes inputs up to 1 MiB; the others 64 KiB.
+    max_len=65536
+    [ "$target" = volume ] && max_len=1048576
     corpus="$build/corpus-$target"
     mkdir -p "$corpus"
     echo "== fuzzing the $target reader for $seconds s"
     # -rss_limit_mb: a single input may not use more than 2 GiB; -timeout: nor take 10 s.
     if ! "$build/nori-fuzz-$target" "$corpus" "${seeds[@]}" -dict="$here/tests/fuzz/$target.dict" \
-        -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+        -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len="$max_len" \
         -artifact_prefix="$build/artifacts/$target-" -print_final_stats=1 \
         > "$build/fuzz-$target.log" 2>&1; then
         status=1

@@ -28,6 +28,9 @@ public:
     /// the one named `gridName`). Every malformed, truncated or unsupported file, and
     /// every NaN, infinite or negative value, is a NoriException naming the file.
     static VolumeGrid load(const std::string &filename, const std::string &gridName = "");
+    /// load() for a file's bytes; `filename` is for messages.
+    static VolumeGrid parse(const std::string &bytes, const std::string &filename,
+                            const std::string &gridName = "");
     /// Parses the bytes of a Mitsuba .vol file; `filename` is for messages.
     static VolumeGrid parseVol(const std::string &bytes, const std::string &filename);
 

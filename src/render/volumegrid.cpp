@@ -45,16 +45,16 @@ Eigen::Matrix4f nanovdbIndexToObject(const nanovdb::Map &map) {
 /// integer index coordinates, OpenVDB's convention).
 template <typename ValueT>
 VolumeGrid densify(const nanovdb::NanoGrid<ValueT> &grid, int channels,
-                   const std::string &filename) {
+                   const std::string &filename, const std::string &gridName) {
     const nanovdb::CoordBBox box = grid.indexBBox();
     if (box.empty())
         throw NoriException("NanoVDB file '{}': grid '{}' has no active voxels", filename,
-                            grid.gridName());
+                            gridName);
     const nanovdb::Coord activeSize = box.dim();
     for (int axis = 0; axis < 3; ++axis)
         if (activeSize[axis] <= 0 || activeSize[axis] > (1 << 20))
             throw NoriException("NanoVDB file '{}': grid '{}' has an invalid bounding box",
-                                filename, grid.gridName());
+                                filename, gridName);
     // One voxel of background around the active voxels, so that lookups fade to it at
     // the edges as they do inside a sparse grid (clamping would smear the border outward).
     const nanovdb::Coord first = box.min() - nanovdb::Coord(1);
@@ -64,7 +64,7 @@ VolumeGrid densify(const nanovdb::NanoGrid<ValueT> &grid, int channels,
     if (count > kMaxGridValues)
         throw NoriException("NanoVDB file '{}': grid '{}' spans {}x{}x{} voxels, more than the {} "
                             "values a dense grid may hold",
-                            filename, grid.gridName(), activeSize[0], activeSize[1],
+                            filename, gridName, activeSize[0], activeSize[1],
                             activeSize[2], kMaxGridValues);
     std::vector<float> values(count);
     auto accessor = grid.getAccessor();
@@ -91,32 +91,49 @@ VolumeGrid densify(const nanovdb::NanoGrid<ValueT> &grid, int channels,
 }
 
 /// Whether every node a lookup can reach lies inside the grid's buffer, 32-byte aligned:
-/// the root's tile table, and the upper, lower and leaf nodes through every child
-/// pointer. NanoVDB's own validator (GridValidator::checkNodes) does this only after
-/// computing a checksum that already follows the pointers, so it runs first, here.
+/// the root's tile table, and the upper, lower and leaf nodes through every child offset.
+/// NanoVDB's own validator (GridValidator::checkNodes) does this only after computing a
+/// checksum that already follows the offsets, and through references that may not be
+/// formed to misaligned addresses; so this runs first, on raw addresses.
 template <typename ValueT> bool nodesInBounds(const nanovdb::NanoGrid<ValueT> &grid) {
-    const auto *begin = reinterpret_cast<const uint8_t *>(&grid);
-    const auto *end = begin + grid.gridSize();
-    auto inside = [&](const void *pointer, size_t size) {
-        const auto *p = static_cast<const uint8_t *>(pointer);
-        return p >= begin && p <= end && size_t(end - p) >= size &&
-               reinterpret_cast<uintptr_t>(p) % NANOVDB_DATA_ALIGNMENT == 0;
+    using RootT = typename nanovdb::NanoGrid<ValueT>::TreeType::RootType;
+    using UpperT = typename RootT::ChildNodeType;
+    using LowerT = typename UpperT::ChildNodeType;
+    using LeafT = typename LowerT::ChildNodeType;
+    const auto begin = reinterpret_cast<uintptr_t>(&grid);
+    const auto end = begin + grid.gridSize();
+    // The node of `size` bytes at base + offset, or nullptr when it is not inside.
+    auto nodeAt = [&](const void *base, int64_t offset, size_t size) -> uintptr_t {
+        const uintptr_t address = reinterpret_cast<uintptr_t>(base) + uintptr_t(offset);
+        if (address < begin || address > end || end - address < size ||
+            address % NANOVDB_DATA_ALIGNMENT != 0)
+            return 0;
+        return address;
     };
-    const auto *tree = reinterpret_cast<const nanovdb::TreeData<> *>(&grid.tree());
-    if (!inside(tree, sizeof(*tree)) ||
-        tree->mNodeOffset[3] > uint64_t(end - reinterpret_cast<const uint8_t *>(tree)))
+    const auto *tree = reinterpret_cast<const nanovdb::TreeData<> *>(&grid + 1);
+    if (!nodeAt(tree, 0, sizeof(*tree)))
         return false;
-    const auto &root = grid.tree().root();
-    if (!inside(&root, sizeof(root)) || !inside(&root, root.memUsage()))
+    const uintptr_t rootAddress = nodeAt(tree, int64_t(tree->mNodeOffset[3]), sizeof(RootT));
+    if (!rootAddress)
         return false;
-    for (auto upper = root.beginChild(); upper; ++upper) {
-        if (!inside(&*upper, sizeof(*upper)))
+    const auto *root = reinterpret_cast<const typename RootT::DataType *>(rootAddress);
+    if (!nodeAt(root, 0, sizeof(RootT) + uint64_t(root->mTableSize) * sizeof(typename RootT::Tile)))
+        return false;
+    for (uint32_t i = 0; i < root->mTableSize; ++i) {
+        const auto *tile = root->tile(i);
+        if (!tile->isChild())
+            continue;
+        const uintptr_t upperAddress = nodeAt(root, tile->child, sizeof(UpperT));
+        if (!upperAddress)
             return false;
-        for (auto lower = upper->beginChild(); lower; ++lower) {
-            if (!inside(&*lower, sizeof(*lower)))
+        const auto *upper = reinterpret_cast<const typename UpperT::DataType *>(upperAddress);
+        for (auto u = upper->mChildMask.beginOn(); u; ++u) {
+            const uintptr_t lowerAddress = nodeAt(upper, upper->mTable[*u].child, sizeof(LowerT));
+            if (!lowerAddress)
                 return false;
-            for (auto leaf = lower->beginChild(); leaf; ++leaf)
-                if (!inside(&*leaf, sizeof(*leaf)))
+            const auto *lower = reinterpret_cast<const typename LowerT::DataType *>(lowerAddress);
+            for (auto l = lower->mChildMask.beginOn(); l; ++l)
+                if (!nodeAt(lower, lower->mTable[*l].child, sizeof(LeafT)))
                     return false;
         }
     }
@@ -142,12 +159,16 @@ VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename,
                                 "damaged)",
                                 filename);
         if (header.version.getMajor() != NANOVDB_MAJOR_VERSION_NUMBER)
-            throw NoriException("NanoVDB file '{}' is of format version {}; this build reads "
-                                "version {}.x",
-                                filename, header.version.c_str(), NANOVDB_MAJOR_VERSION_NUMBER);
+            throw NoriException("NanoVDB file '{}' is of format version {}.{}.{}; this build "
+                                "reads version {}.x",
+                                filename, header.version.getMajor(), header.version.getMinor(),
+                                header.version.getPatch(), NANOVDB_MAJOR_VERSION_NUMBER);
         if (header.codec != nanovdb::io::Codec::NONE)
             throw NoriException("NanoVDB file '{}' is compressed ({}); write it uncompressed",
-                                filename, nanovdb::io::toStr(header.codec));
+                                filename,
+                                header.codec < nanovdb::io::Codec::END
+                                    ? nanovdb::io::toStr(header.codec)
+                                    : "an unknown codec");
         // The segment's metadata records, then the grids in the same order.
         std::vector<std::pair<MetaData, std::string>> metas;
         for (int i = 0; i < header.gridCount; ++i) {
@@ -162,7 +183,10 @@ VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename,
             offset += meta.nameSize;
             metas.emplace_back(meta, name);
         }
-        for (const auto &[meta, name] : metas) {
+        for (const auto &entry : metas) {
+            // (Named references, not a structured binding: the lambda below captures them.)
+            const MetaData &meta = entry.first;
+            const std::string &name = entry.second;
             if (meta.fileSize > bytes.size() - offset)
                 throw NoriException("NanoVDB file '{}' is truncated (grid '{}' needs {} bytes, {} "
                                     "remain)",
@@ -175,18 +199,27 @@ VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename,
             if (!isFloat && meta.gridType != nanovdb::GridType::Vec3f)
                 throw NoriException("NanoVDB file '{}': grid '{}' holds {} values; a medium needs "
                                     "a float grid (density) or a Vec3f grid (albedo)",
-                                    filename, name, nanovdb::toStr(meta.gridType));
+                                    filename, name,
+                                    meta.gridType < nanovdb::GridType::End
+                                        ? nanovdb::toStr(meta.gridType)
+                                        : "unknown");
             if (meta.gridSize != meta.fileSize || meta.gridSize < sizeof(nanovdb::GridData))
                 throw NoriException("NanoVDB file '{}': grid '{}' has inconsistent sizes",
                                     filename, name);
             auto buffer = nanovdb::HostBuffer::create(meta.gridSize);
             std::memcpy(buffer.data(), bytes.data() + gridOffset, meta.gridSize);
-            nanovdb::GridHandle<nanovdb::HostBuffer> handle(std::move(buffer));
+            // The buffer holds this one grid: its own header must say so before any of
+            // NanoVDB's accessors trust it (GridHandle would follow its grid count).
+            const auto *header = reinterpret_cast<const nanovdb::GridData *>(buffer.data());
+            const bool consistent = header->mMagic == NANOVDB_MAGIC_NUMBER &&
+                                    header->mGridSize == meta.gridSize &&
+                                    header->mGridType == meta.gridType &&
+                                    header->mGridIndex == 0 && header->mGridCount == 1;
             auto check = [&](const auto *grid) {
                 // Bounds first, then the checksum of the header and root (which also covers
                 // the root's child pointers), then the full validation with the checksum of
                 // every node where the file has one.
-                if (!grid || grid->gridSize() != meta.gridSize || !nodesInBounds(*grid) ||
+                if (!consistent || !nodesInBounds(*grid) ||
                     !nanovdb::validateChecksum(*grid, nanovdb::ChecksumMode::Partial) ||
                     !nanovdb::isValid(*grid, true))
                     throw NoriException("NanoVDB file '{}': grid '{}' is damaged (it fails "
@@ -194,13 +227,13 @@ VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename,
                                         filename, name);
             };
             if (isFloat) {
-                const auto *grid = handle.grid<float>();
+                const auto *grid = reinterpret_cast<const nanovdb::NanoGrid<float> *>(header);
                 check(grid);
-                return densify(*grid, 1, filename);
+                return densify(*grid, 1, filename, name);
             }
-            const auto *grid = handle.grid<nanovdb::Vec3f>();
+            const auto *grid = reinterpret_cast<const nanovdb::NanoGrid<nanovdb::Vec3f> *>(header);
             check(grid);
-            return densify(*grid, 3, filename);
+            return densify(*grid, 3, filename, name);
         }
     }
     if (gridName.empty())
@@ -236,7 +269,11 @@ VolumeGrid::VolumeGrid(const Vector3i &resolution, int channels, std::vector<flo
 }
 
 VolumeGrid VolumeGrid::load(const std::string &filename, const std::string &gridName) {
-    const std::string bytes = readBinaryFile(filename, "volume grid");
+    return parse(readBinaryFile(filename, "volume grid"), filename, gridName);
+}
+
+VolumeGrid VolumeGrid::parse(const std::string &bytes, const std::string &filename,
+                             const std::string &gridName) {
     if (bytes.compare(0, 3, "VOL") == 0) {
         if (!gridName.empty())
             throw NoriException("'{}' is a .vol file, which holds one unnamed grid; remove the "
