@@ -445,7 +445,7 @@ class Exporter:
             ET.SubElement(bsdf, "color", name="albedo", value="0, 0, 0")
             return
         if output.inputs["Volume"].is_linked:
-            self.warn(owner, "volumes are not supported yet (nori has no media): ignored")
+            self.warn(owner, "volume shaders are not exported yet (nori media are written by hand): ignored")
         if output.inputs["Displacement"].is_linked:
             self.warn(owner, "displacement is not supported: ignored")
         node = links[0].from_node

@@ -52,8 +52,8 @@ template <typename F> VolumeGrid makeGrid(int resolution, F value) {
     Eigen::Matrix4f unitToObject = Eigen::Matrix4f::Identity();
     unitToObject.topLeftCorner<3, 3>() *= 2.0f;
     unitToObject.topRightCorner<3, 1>() = Eigen::Vector3f::Constant(-1.0f);
-    return VolumeGrid(Vector3i::Constant(resolution), 1, std::move(values),
-                      Transform(unitToObject), "test grid");
+    return VolumeGrid(Vector3i::Constant(resolution), 1, std::move(values), Transform(unitToObject),
+                      "test grid");
 }
 
 /// Mean and variance, per channel, of `count` transmittance estimates along `ray`.
@@ -80,8 +80,8 @@ ChannelMoments transmittanceMoments(const Medium &medium, const Ray3f &ray,
 void checkMean(const RunningMoments &moments, double expected, const std::string &what,
                double absolute = 1e-5) {
     const double standardError = std::sqrt(moments.variance() / double(moments.count));
-    INFO(what << ": mean " << moments.mean << " (standard error " << standardError
-              << "), expected " << expected);
+    INFO(what << ": mean " << moments.mean << " (standard error " << standardError << "), expected "
+              << expected);
     CHECK(std::abs(moments.mean - expected) <= 4.5 * standardError + absolute);
 }
 
@@ -94,7 +94,9 @@ bool samplesAgree(const RunningMoments &a, const RunningMoments &b, double &t) {
     return 2.0 * (1.0 - studentTCdf(std::abs(t), degrees)) > 0.01;
 }
 
-double luminance(const Color3f &c) { return c.getLuminance(); }
+double luminance(const Color3f &c) {
+    return c.getLuminance();
+}
 
 /// A scene of a 1×1 camera with a 1° field of view at (0, 0, 5) looking at the origin,
 /// with `content`, rendered by volpath with `integratorProperties`.
@@ -156,8 +158,7 @@ TEST_CASE("Phase functions sample their pdf (chi-square, with negative controls)
              R"(<phase type="hg"><float name="g" value="-0.5"/></phase>)");
 }
 
-TEST_CASE("Transmittance estimators through a homogeneous slab equal exp(-sigma_t d)",
-          "[media]") {
+TEST_CASE("Transmittance estimators through a homogeneous slab equal exp(-sigma_t d)", "[media]") {
     const auto medium = loadMedium(R"(<medium type="homogeneous">
         <color name="sigmaT" value="0.2, 0.7, 1.5"/><color name="albedo" value="0.5"/></medium>)");
     const float distance = 2.0f;
@@ -181,8 +182,7 @@ TEST_CASE("Transmittance estimators through a homogeneous slab equal exp(-sigma_
     const ChannelMoments delta =
         transmittanceMoments(*medium, ray, TransmittanceEstimator::Delta, count);
     const double standardError = std::sqrt(delta.channel[1].variance() / double(count));
-    CHECK(std::abs(delta.channel[1].mean - std::exp(-0.7 * distance * 1.1)) >
-          4.5 * standardError);
+    CHECK(std::abs(delta.channel[1].mean - std::exp(-0.7 * distance * 1.1)) > 4.5 * standardError);
 }
 
 TEST_CASE("Homogeneous free flights: collisions and passes weigh as the closed forms say "
@@ -215,10 +215,11 @@ TEST_CASE("Homogeneous free flights: collisions and passes weigh as the closed f
     }
 }
 
-TEST_CASE("A heterogeneous grid of constant density equals the homogeneous medium",
-          "[media]") {
+TEST_CASE("A heterogeneous grid of constant density equals the homogeneous medium", "[media]") {
     TempDir dir;
-    makeGrid(4, [](int, int, int) { return 1.0f; }).writeVol((dir.path() / "constant.vol").string());
+    makeGrid(4, [](int, int, int) {
+        return 1.0f;
+    }).writeVol((dir.path() / "constant.vol").string());
     const auto heterogeneous = loadMedium(R"(<medium type="heterogeneous">
         <string name="filename" value="constant.vol"/><float name="scale" value="0.7"/>
         <color name="albedo" value="0.6"/><integer name="majorantResolution" value="4"/>
@@ -305,8 +306,7 @@ TEST_CASE("The cloud reads the same from .vol and NanoVDB, and its majorant grid
     CHECK(sum / 512.0 < 0.6 * majorants.maximum());
 }
 
-TEST_CASE("Ratio tracking has a lower variance than delta tracking through the cloud",
-          "[media]") {
+TEST_CASE("Ratio tracking has a lower variance than delta tracking through the cloud", "[media]") {
     const auto cloud = loadMedium(R"(<medium type="heterogeneous">
         <string name="filename" value="cloud.vol"/><float name="scale" value="3"/></medium>)",
                                   kMediaDirectory);
@@ -328,8 +328,8 @@ TEST_CASE("Ratio tracking has a lower variance than delta tracking through the c
         deltaVariance += delta.channel[0].variance();
         ratioVariance += ratio.channel[0].variance();
     }
-    WARN("variance of delta / ratio tracking through the cloud (8 rays): "
-         << deltaVariance / ratioVariance);
+    WARN("variance of delta / ratio tracking through the cloud (8 rays): " << deltaVariance /
+                                                                                  ratioVariance);
     CHECK(ratioVariance < deltaVariance);
 }
 
@@ -343,22 +343,24 @@ TEST_CASE("volpath: an absorbing slab between camera and light gives Le exp(-sig
         </mesh>
         <mesh type="sphere"><point name="center" value="0, 0, -4"/><float name="radius" value="1"/>
             <emitter type="area"><color name="radiance" value="2, 3, 4"/></emitter></mesh>)");
-    const double reference = luminance(Color3f(2.0f, 3.0f, 4.0f) * (-Color3f(0.5f, 1.0f, 2.0f)).exp());
+    const double reference =
+        luminance(Color3f(2.0f, 3.0f, 4.0f) * (-Color3f(0.5f, 1.0f, 2.0f)).exp());
     const PixelTTest test = tTestPixel(*scene, reference, 20000);
     INFO(test.summary());
     CHECK(test.result.passed);
     // Negative control: the light seen through a slab 5% thicker.
     const double thicker =
         luminance(Color3f(2.0f, 3.0f, 4.0f) * (-Color3f(0.5f, 1.0f, 2.0f) * 1.05f).exp());
-    CHECK_FALSE(studentTTest(test.moments.mean, test.moments.variance(), test.moments.count,
-                             thicker, 0.01)
-                    .passed);
+    CHECK_FALSE(
+        studentTTest(test.moments.mean, test.moments.variance(), test.moments.count, thicker, 0.01)
+            .passed);
 }
 
 TEST_CASE("volpath: white furnaces of albedo-1 media behind index-matched and dielectric "
           "boundaries see 1",
           "[media][ttest]") {
-    const std::string environment = R"(<emitter type="constant"><color name="radiance" value="1"/></emitter>)";
+    const std::string environment =
+        R"(<emitter type="constant"><color name="radiance" value="1"/></emitter>)";
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"index-matched sphere, homogeneous hg 0.5", R"(
             <mesh type="sphere"><float name="radius" value="1"/>
@@ -380,9 +382,7 @@ TEST_CASE("volpath: white furnaces of albedo-1 media behind index-matched and di
     for (const auto &[name, content] : cases) {
         const bool cameraInside = name.rfind("camera inside", 0) == 0;
         std::string xml = environment + content;
-        auto scene =
-            cameraInside
-                ? loadScene(fmt::format(R"(<scene><integrator type="volpath"/>
+        auto scene = cameraInside ? loadScene(fmt::format(R"(<scene><integrator type="volpath"/>
                     <medium type="homogeneous" id="fog"><color name="sigmaT" value="0.3"/>
                         <color name="albedo" value="1"/></medium>
                     <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
@@ -391,16 +391,16 @@ TEST_CASE("volpath: white furnaces of albedo-1 media behind index-matched and di
                         <transform name="toWorld"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
                         <ref id="fog"/>
                     </camera>{}</scene>)",
-                                        xml),
-                            kMediaDirectory)
-                : pinholeScene(xml);
+                                                          xml),
+                                              kMediaDirectory)
+                                  : pinholeScene(xml);
         const PixelTTest test = tTestPixel(*scene, 1.0, 8000);
         INFO(name << ": " << test.summary());
         CHECK(test.result.passed);
         // Negative control: a medium losing 3% of the light would be told apart.
-        CHECK_FALSE(studentTTest(test.moments.mean, test.moments.variance(), test.moments.count,
-                                 0.97, 0.01)
-                        .passed);
+        CHECK_FALSE(
+            studentTTest(test.moments.mean, test.moments.variance(), test.moments.count, 0.97, 0.01)
+                .passed);
     }
 }
 
@@ -417,7 +417,8 @@ TEST_CASE("volpath: single scattering in a slab matches its closed form", "[medi
     const double k = 1.0 + 1.0 / cosLight;
     const double radiance =
         sigmaS * phase * irradiance * (1.0 - std::exp(-sigmaT * depth * k)) / (sigmaT * k);
-    auto scene = pinholeScene(fmt::format(R"(
+    auto scene =
+        pinholeScene(fmt::format(R"(
         <mesh type="obj"><string name="filename" value="box.obj"/>
             <transform name="toWorld"><scale value="50, 50, 0.5"/><translate value="0, 0, -0.5"/></transform>
             <medium type="homogeneous" name="interior"><color name="sigmaS" value="{}"/>
@@ -425,9 +426,8 @@ TEST_CASE("volpath: single scattering in a slab matches its closed form", "[medi
         </mesh>
         <emitter type="directional"><vector name="direction" value="{}, 0, {}"/>
             <color name="irradiance" value="{}"/></emitter>)",
-                                          sigmaS, sigmaT - sigmaS, g, -sinLight, -cosLight,
-                                          irradiance),
-                              R"(<boolean name="singleScatter" value="true"/>)");
+                                 sigmaS, sigmaT - sigmaS, g, -sinLight, -cosLight, irradiance),
+                     R"(<boolean name="singleScatter" value="true"/>)");
     const PixelTTest test = tTestPixel(*scene, radiance, 20000);
     INFO(test.summary());
     CHECK(test.result.passed);
@@ -465,17 +465,19 @@ TEST_CASE("Media refuse bad input with clear errors", "[media][errors]") {
     const std::string directory = dir.path().string();
     auto heterogeneous = [&](const std::string &file) {
         return errorOf([&] {
-            loadMedium(fmt::format(R"(<medium type="heterogeneous"><string name="filename" value="{}"/></medium>)",
-                                   file),
-                       directory);
+            loadMedium(
+                fmt::format(
+                    R"(<medium type="heterogeneous"><string name="filename" value="{}"/></medium>)",
+                    file),
+                directory);
         });
     };
     // .vol files: truncated, wrong version, NaN and negative densities.
     makeGrid(3, [](int, int, int) { return 0.5f; }).writeVol(directory + "/good.vol");
     std::string bytes = readBinaryFile(directory + "/good.vol", "test");
     writeBinaryFile(directory + "/truncated.vol", bytes.substr(0, bytes.size() - 5), "test");
-    CHECK_THAT(heterogeneous("truncated.vol"), Catch::Contains("truncated") &&
-                                                   Catch::Contains("truncated.vol"));
+    CHECK_THAT(heterogeneous("truncated.vol"),
+               Catch::Contains("truncated") && Catch::Contains("truncated.vol"));
     std::string version = bytes;
     version[3] = 2;
     writeBinaryFile(directory + "/version.vol", version, "test");
@@ -494,9 +496,9 @@ TEST_CASE("Media refuse bad input with clear errors", "[media][errors]") {
     const float minusOne = -1.0f;
     std::memcpy(&negative[48 + 4 * 13], &minusOne, 4);
     writeBinaryFile(directory + "/negative.vol", negative, "test");
-    CHECK_THAT(heterogeneous("negative.vol"),
-               Catch::Contains("-1") && Catch::Contains("(1, 1, 1)") &&
-                   Catch::Contains("negative.vol"));
+    CHECK_THAT(heterogeneous("negative.vol"), Catch::Contains("-1") &&
+                                                  Catch::Contains("(1, 1, 1)") &&
+                                                  Catch::Contains("negative.vol"));
     CHECK_THAT(heterogeneous("missing.vol"), Catch::Contains("missing.vol"));
 
     // NanoVDB files: the wrong grid type, a damaged grid, a truncated file.
@@ -504,17 +506,20 @@ TEST_CASE("Media refuse bad input with clear errors", "[media][errors]") {
         nanovdb::GridBuilder<int32_t> builder(0);
         builder([](const nanovdb::Coord &) { return 3; },
                 nanovdb::CoordBBox(nanovdb::Coord(0), nanovdb::Coord(3)));
-        nanovdb::io::writeGrid(directory + "/int.nvdb", builder.getHandle(1.0, nanovdb::Vec3d(0.0), "ints"));
+        nanovdb::io::writeGrid(directory + "/int.nvdb",
+                               builder.getHandle(1.0, nanovdb::Vec3d(0.0), "ints"));
     }
     CHECK_THAT(heterogeneous("int.nvdb"), Catch::Contains("int32") && Catch::Contains("ints") &&
                                               Catch::Contains("float grid"));
-    makeGrid(4, [](int x, int, int) { return 0.1f * float(x); })
-        .writeNanoVDB(directory + "/good.nvdb", "density");
+    makeGrid(4, [](int x, int, int) {
+        return 0.1f * float(x);
+    }).writeNanoVDB(directory + "/good.nvdb", "density");
     CHECK_NOTHROW(heterogeneous("good.nvdb").empty());
     CHECK_THAT(errorOf([&] {
-                   loadMedium(R"(<medium type="heterogeneous"><string name="filename" value="good.nvdb"/>
+                   loadMedium(
+                       R"(<medium type="heterogeneous"><string name="filename" value="good.nvdb"/>
                        <string name="gridName" value="smoke"/></medium>)",
-                              directory);
+                       directory);
                }),
                Catch::Contains("no grid named 'smoke'"));
     const std::string nvdb = readBinaryFile(directory + "/good.nvdb", "test");
@@ -530,7 +535,8 @@ TEST_CASE("Media refuse bad input with clear errors", "[media][errors]") {
 
     // Parameters.
     CHECK_THAT(errorOf([] {
-                   loadMedium(R"(<medium type="homogeneous"><color name="sigmaA" value="-1"/></medium>)");
+                   loadMedium(
+                       R"(<medium type="homogeneous"><color name="sigmaA" value="-1"/></medium>)");
                }),
                Catch::Contains("sigmaA") && Catch::Contains("non-negative"));
     CHECK_THAT(errorOf([] {
@@ -543,16 +549,20 @@ TEST_CASE("Media refuse bad input with clear errors", "[media][errors]") {
                        <color name="albedo" value="1.5"/></medium>)");
                }),
                Catch::Contains("albedo"));
-    CHECK_THAT(errorOf([] {
-                   loadScene(R"(<scene><integrator type="volpath"><string name="transmittance" value="raymarch"/></integrator>
+    CHECK_THAT(
+        errorOf([] {
+            loadScene(
+                R"(<scene><integrator type="volpath"><string name="transmittance" value="raymarch"/></integrator>
                        <camera type="perspective"/></scene>)");
-               }),
-               Catch::Contains("stepSize"));
-    CHECK_THAT(errorOf([] {
-                   loadScene(R"(<scene><integrator type="volpath"><string name="transmittance" value="ratios"/></integrator>
+        }),
+        Catch::Contains("stepSize"));
+    CHECK_THAT(
+        errorOf([] {
+            loadScene(
+                R"(<scene><integrator type="volpath"><string name="transmittance" value="ratios"/></integrator>
                        <camera type="perspective"/></scene>)");
-               }),
-               Catch::Contains("'ratios'"));
+        }),
+        Catch::Contains("'ratios'"));
     CHECK_THAT(errorOf([] {
                    loadScene(R"(<scene><integrator type="volpath"/><camera type="perspective"/>
                        <mesh type="sphere"><medium type="homogeneous" name="inside"/></mesh></scene>)");
@@ -575,7 +585,8 @@ TEST_CASE("A medium inside an open mesh is warned about", "[media][errors]") {
         <camera type="perspective"><integer name="width" value="4"/><integer name="height" value="4"/></camera>
         <mesh type="obj"><string name="filename" value="quad.obj"/>
             <medium type="homogeneous" name="interior"/></mesh>
-        <mesh type="obj"><string name="filename" value=")" + kMediaDirectory + R"(/box.obj"/>
+        <mesh type="obj"><string name="filename" value=")" +
+                                                        kMediaDirectory + R"(/box.obj"/>
             <medium type="homogeneous" name="interior"/></mesh></scene>)");
     const ProcessResult result = runNori({scene, "-o", (dir.path() / "open.exr").string()});
     CHECK(result.exitCode == 0);

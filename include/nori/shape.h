@@ -115,9 +115,7 @@ public:
     const BSDF *getBSDF() const { return m_bsdf.get(); }
     std::shared_ptr<BSDF> getBSDFPtr() const { return m_bsdf; }
     /// The media inside and outside the surface (nullptr: vacuum).
-    MediumInterface getMediumInterface() const {
-        return {m_interior.get(), m_exterior.get()};
-    }
+    MediumInterface getMediumInterface() const { return {m_interior.get(), m_exterior.get()}; }
     /// Whether the shape bounds a medium (an `interior` or `exterior` child): rays crossing
     /// it change medium; a shape without one leaves a ray in the medium it was in.
     bool hasMediumInterface() const { return m_interior || m_exterior; }

@@ -9,8 +9,8 @@
  * each strategy unbiased (PBR 3rd ed. §15.3.1). Surfaces are treated as path_mis does.
  *
  * Parameters:
- *   maxDepth       integer  -1       scattering events (surface or medium) after the camera ray (-1: unbounded)
- *   rrDepth        integer  3        Russian roulette from this event on
+ *   maxDepth       integer  -1       scattering events (surface or medium) after the camera ray
+ * (-1: unbounded) rrDepth        integer  3        Russian roulette from this event on
  *   transmittance  string   "ratio"  shadow-ray estimator: "delta", "ratio" or "raymarch"
  *   stepSize       float    (required with raymarch)  ray-marching step, in world units
  *   singleScatter  boolean  false    light scatters at most once in a medium: the path ends
@@ -118,15 +118,16 @@ public:
 
             if (!hit) {
                 for (const Emitter *emitter : scene->getInfiniteEmitters())
-                    radiance += throughput * emissionWithMIS(scene, *emitter,
-                                                             EmitterQueryRecord(ray, specularBounce),
-                                                             specularBounce, scatterPdf);
+                    radiance +=
+                        throughput * emissionWithMIS(scene, *emitter,
+                                                     EmitterQueryRecord(ray, specularBounce),
+                                                     specularBounce, scatterPdf);
                 break;
             }
             if (const Emitter *emitter = its.shape->getEmitter())
-                radiance += throughput * emissionWithMIS(scene, *emitter,
-                                                         EmitterQueryRecord(previous, its),
-                                                         specularBounce, scatterPdf);
+                radiance +=
+                    throughput * emissionWithMIS(scene, *emitter, EmitterQueryRecord(previous, its),
+                                                 specularBounce, scatterPdf);
 
             const BSDF *bsdf = its.shape->getBSDF();
             const Vector3f wiLocal = its.toLocal(-ray.d);
@@ -278,10 +279,11 @@ private:
         const Color3f f = bsdf.eval(bRec);
         if ((f == 0.0f).all())
             return Color3f(0.0f);
-        const Color3f transmittance = transmittanceAlong(
-            scene, its.spawnRayTo(lRec.p), mediumBehind(its, lRec.wi, medium), rng);
+        const Color3f transmittance = transmittanceAlong(scene, its.spawnRayTo(lRec.p),
+                                                         mediumBehind(its, lRec.wi, medium), rng);
         return f * radianceOverPdf * transmittance *
-               (std::abs(Frame::cosTheta(bRec.wo)) * lightWeight(*emitter, lRec, pmf, bsdf.pdf(bRec)));
+               (std::abs(Frame::cosTheta(bRec.wo)) *
+                lightWeight(*emitter, lRec, pmf, bsdf.pdf(bRec)));
     }
 
     /// Next-event estimation at a collision in `medium`, weighted against phase sampling

@@ -6,8 +6,8 @@
  * cells walked by a DDA, so sparse regions are crossed in few steps.
  *
  * Parameters:
- *   filename            string     (required)  the density grid (.vol or .nvdb), relative to the scene
- *   gridName            string     ""          the NanoVDB grid to read (default: the first)
+ *   filename            string     (required)  the density grid (.vol or .nvdb), relative to the
+ * scene gridName            string     ""          the NanoVDB grid to read (default: the first)
  *   scale               float      1           σt per unit of density
  *   albedo              color      0.75        single-scattering albedo σs/σt, in [0, 1]
  *   albedoFilename      string     ""          a grid of albedos (1 or 3 channels) instead

@@ -15,7 +15,8 @@
  * Children: a <phase>, the phase function (isotropic by default).
  *
  *   <medium type="homogeneous" name="interior"><color name="sigmaS" value="0.5, 1, 2"/>
- *       <color name="sigmaA" value="0.05"/><phase type="hg"><float name="g" value="0.7"/></phase></medium>
+ *       <color name="sigmaA" value="0.05"/><phase type="hg"><float name="g"
+ * value="0.7"/></phase></medium>
  */
 #include <nori/medium.h>
 #include <nori/phase.h>
@@ -44,14 +45,15 @@ public:
             (m_sigmaT > 0.0f).select((-m_sigmaT * travelled).exp(), Color3f(1.0f));
         // The density of this outcome: σt·T per unit length at a collision, T for passing,
         // averaged over the three ways of choosing the channel.
-        const Color3f density = result.scattered ? Color3f(m_sigmaT * transmittance)
-                                                 : transmittance;
+        const Color3f density =
+            result.scattered ? Color3f(m_sigmaT * transmittance) : transmittance;
         const float pdf = density.mean();
         if (!(pdf > 0.0f)) {
             result.weight = Color3f(0.0f);
             return result;
         }
-        result.weight = (result.scattered ? Color3f(m_sigmaS * transmittance) : transmittance) / pdf;
+        result.weight =
+            (result.scattered ? Color3f(m_sigmaS * transmittance) : transmittance) / pdf;
         return result;
     }
 
@@ -62,8 +64,8 @@ public:
     }
 
     std::string toString() const override {
-        return fmt::format("HomogeneousMedium[sigmaT={}, albedo={}, phase={}]",
-                           m_sigmaT.toString(), m_albedo.toString(), m_phase->toString());
+        return fmt::format("HomogeneousMedium[sigmaT={}, albedo={}, phase={}]", m_sigmaT.toString(),
+                           m_albedo.toString(), m_phase->toString());
     }
 
 private:

@@ -24,8 +24,8 @@ float valueNoise(const Vector3f &p, int octave) {
     for (int corner = 0; corner < 8; ++corner) {
         const Vector3i offset(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
         const Vector3i cell = floorP.cast<int>() + offset;
-        const uint64_t hash = hashValues(uint32_t(cell.x()), uint32_t(cell.y()),
-                                         uint32_t(cell.z()), uint32_t(octave));
+        const uint64_t hash = hashValues(uint32_t(cell.x()), uint32_t(cell.y()), uint32_t(cell.z()),
+                                         uint32_t(octave));
         const float value = float(hash >> 40) / float(uint64_t(1) << 24);
         float weight = 1.0f;
         for (int axis = 0; axis < 3; ++axis)
@@ -40,16 +40,18 @@ float cloudDensity(const Vector3f &p) {
         Vector3f centre;
         float radius;
     };
-    static const Blob blobs[] = {{{0.0f, -0.15f, 0.0f}, 0.55f},   {{-0.42f, -0.25f, 0.1f}, 0.4f},
-                                 {{0.45f, -0.2f, -0.05f}, 0.42f}, {{0.1f, 0.22f, 0.05f}, 0.4f},
+    static const Blob blobs[] = {{{0.0f, -0.15f, 0.0f}, 0.55f},
+                                 {{-0.42f, -0.25f, 0.1f}, 0.4f},
+                                 {{0.45f, -0.2f, -0.05f}, 0.42f},
+                                 {{0.1f, 0.22f, 0.05f}, 0.4f},
                                  {{-0.18f, 0.12f, -0.25f}, 0.35f}};
     float shape = -1.0f;
     for (const Blob &blob : blobs)
         shape = std::max(shape, 1.0f - (p - blob.centre).norm() / blob.radius);
     float noise = 0.0f, amplitude = 0.5f;
     for (int octave = 0; octave < 3; ++octave, amplitude *= 0.5f)
-        noise += amplitude * valueNoise(p * (4.0f * float(1 << octave)) + Vector3f(7.0f, 3.0f, 5.0f),
-                                        octave);
+        noise += amplitude *
+                 valueNoise(p * (4.0f * float(1 << octave)) + Vector3f(7.0f, 3.0f, 5.0f), octave);
     // A flat base: the cloud thins out over y ∈ [−0.55, −0.4].
     const float base = std::clamp((p.y() + 0.55f) / 0.15f, 0.0f, 1.0f);
     return std::clamp((shape + 0.45f * (noise - 0.45f)) * 3.0f, 0.0f, 1.0f) * base;
@@ -68,10 +70,10 @@ int run(int argc, char **argv) {
         for (int y = 0; y < resolution; ++y)
             for (int x = 0; x < resolution; ++x) {
                 // The voxel centre in [−1, 1]³.
-                const Vector3f p = (Vector3f(float(x), float(y), float(z)) +
-                                    Vector3f::Constant(0.5f)) *
-                                       (2.0f / float(resolution)) -
-                                   Vector3f::Constant(1.0f);
+                const Vector3f p =
+                    (Vector3f(float(x), float(y), float(z)) + Vector3f::Constant(0.5f)) *
+                        (2.0f / float(resolution)) -
+                    Vector3f::Constant(1.0f);
                 values[index++] = cloudDensity(p);
             }
     Eigen::Matrix4f unitToObject = Eigen::Matrix4f::Identity();

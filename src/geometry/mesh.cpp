@@ -267,9 +267,10 @@ bool Mesh::isClosed() const {
     std::vector<uint32_t> idOfVertex(m_positions.size());
     for (size_t i = 0; i < m_positions.size(); ++i) {
         const Point3f &p = m_positions[i];
-        idOfVertex[i] = positionIds.emplace(std::array<float, 3>{p.x(), p.y(), p.z()},
-                                            uint32_t(positionIds.size()))
-                            .first->second;
+        idOfVertex[i] =
+            positionIds
+                .emplace(std::array<float, 3>{p.x(), p.y(), p.z()}, uint32_t(positionIds.size()))
+                .first->second;
     }
     std::unordered_map<uint64_t, uint32_t> edgeUses;
     for (const Vector3i &face : m_faces)

@@ -15,8 +15,8 @@ void Medium::activate() {
         m_phase = createDefault<PhaseFunction>("isotropic");
 }
 
-void Medium::readCoefficients(const PropertyList &props, const std::string &plugin,
-                              Color3f &sigmaT, Color3f &albedo) {
+void Medium::readCoefficients(const PropertyList &props, const std::string &plugin, Color3f &sigmaT,
+                              Color3f &albedo) {
     const bool scatteringForm = props.has("sigmaS") || props.has("sigmaA");
     if (scatteringForm && (props.has("sigmaT") || props.has("albedo")))
         throw NoriException("{}: give either 'sigmaS' and 'sigmaA', or 'sigmaT' and 'albedo', "
@@ -50,9 +50,12 @@ void Medium::readCoefficients(const PropertyList &props, const std::string &plug
 Color3f Medium::transmittance(const Ray3f &ray, PCG32 &rng, TransmittanceEstimator estimator,
                               float stepSize) const {
     switch (estimator) {
-    case TransmittanceEstimator::Delta: return deltaTracking(ray, rng);
-    case TransmittanceEstimator::Ratio: return ratioTracking(ray, rng);
-    case TransmittanceEstimator::RayMarch: return rayMarching(ray, rng, stepSize);
+    case TransmittanceEstimator::Delta:
+        return deltaTracking(ray, rng);
+    case TransmittanceEstimator::Ratio:
+        return ratioTracking(ray, rng);
+    case TransmittanceEstimator::RayMarch:
+        return rayMarching(ray, rng, stepSize);
     }
     return Color3f(0.0f);
 }

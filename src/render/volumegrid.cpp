@@ -44,8 +44,8 @@ Eigen::Matrix4f nanovdbIndexToObject(const nanovdb::Map &map) {
 /// Copies a NanoVDB grid's active bounding box into dense values (voxel centres at the
 /// integer index coordinates, OpenVDB's convention).
 template <typename ValueT>
-VolumeGrid densify(const nanovdb::NanoGrid<ValueT> &grid, int channels,
-                   const std::string &filename, const std::string &gridName) {
+VolumeGrid densify(const nanovdb::NanoGrid<ValueT> &grid, int channels, const std::string &filename,
+                   const std::string &gridName) {
     const nanovdb::CoordBBox box = grid.indexBBox();
     if (box.empty())
         throw NoriException("NanoVDB file '{}': grid '{}' has no active voxels", filename,
@@ -64,8 +64,8 @@ VolumeGrid densify(const nanovdb::NanoGrid<ValueT> &grid, int channels,
     if (count > kMaxGridValues)
         throw NoriException("NanoVDB file '{}': grid '{}' spans {}x{}x{} voxels, more than the {} "
                             "values a dense grid may hold",
-                            filename, gridName, activeSize[0], activeSize[1],
-                            activeSize[2], kMaxGridValues);
+                            filename, gridName, activeSize[0], activeSize[1], activeSize[2],
+                            kMaxGridValues);
     std::vector<float> values(count);
     auto accessor = grid.getAccessor();
     size_t index = 0;
@@ -164,11 +164,10 @@ VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename,
                                 filename, header.version.getMajor(), header.version.getMinor(),
                                 header.version.getPatch(), NANOVDB_MAJOR_VERSION_NUMBER);
         if (header.codec != nanovdb::io::Codec::NONE)
-            throw NoriException("NanoVDB file '{}' is compressed ({}); write it uncompressed",
-                                filename,
-                                header.codec < nanovdb::io::Codec::END
-                                    ? nanovdb::io::toStr(header.codec)
-                                    : "an unknown codec");
+            throw NoriException(
+                "NanoVDB file '{}' is compressed ({}); write it uncompressed", filename,
+                header.codec < nanovdb::io::Codec::END ? nanovdb::io::toStr(header.codec)
+                                                       : "an unknown codec");
         // The segment's metadata records, then the grids in the same order.
         std::vector<std::pair<MetaData, std::string>> metas;
         for (int i = 0; i < header.gridCount; ++i) {
@@ -204,8 +203,8 @@ VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename,
                                         ? nanovdb::toStr(meta.gridType)
                                         : "unknown");
             if (meta.gridSize != meta.fileSize || meta.gridSize < sizeof(nanovdb::GridData))
-                throw NoriException("NanoVDB file '{}': grid '{}' has inconsistent sizes",
-                                    filename, name);
+                throw NoriException("NanoVDB file '{}': grid '{}' has inconsistent sizes", filename,
+                                    name);
             auto buffer = nanovdb::HostBuffer::create(meta.gridSize);
             std::memcpy(buffer.data(), bytes.data() + gridOffset, meta.gridSize);
             // The buffer holds this one grid: its own header must say so before any of
@@ -213,8 +212,8 @@ VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename,
             const auto *header = reinterpret_cast<const nanovdb::GridData *>(buffer.data());
             const bool consistent = header->mMagic == NANOVDB_MAGIC_NUMBER &&
                                     header->mGridSize == meta.gridSize &&
-                                    header->mGridType == meta.gridType &&
-                                    header->mGridIndex == 0 && header->mGridCount == 1;
+                                    header->mGridType == meta.gridType && header->mGridIndex == 0 &&
+                                    header->mGridCount == 1;
             auto check = [&](const auto *grid) {
                 // Bounds first, then the checksum of the header and root (which also covers
                 // the root's child pointers), then the full validation with the checksum of
@@ -300,8 +299,8 @@ VolumeGrid VolumeGrid::parseVol(const std::string &bytes, const std::string &fil
                               readScalar<int32_t>(bytes, 16));
     const auto channels = readScalar<int32_t>(bytes, 20);
     if (!(resolution.minCoeff() > 0))
-        throw NoriException(".vol file '{}' has a resolution of {}x{}x{}", filename,
-                            resolution.x(), resolution.y(), resolution.z());
+        throw NoriException(".vol file '{}' has a resolution of {}x{}x{}", filename, resolution.x(),
+                            resolution.y(), resolution.z());
     if (channels != 1 && channels != 3)
         throw NoriException(".vol file '{}' has {} channels; a medium needs 1 (density) or 3 "
                             "(albedo)",
@@ -362,23 +361,22 @@ void VolumeGrid::writeVol(const std::string &filename) const {
 void VolumeGrid::writeNanoVDB(const std::string &filename, const std::string &gridName) const {
     const Eigen::Matrix4f &m = m_unitToObject.getMatrix();
     const Vector3f voxelSize = m.diagonal().head<3>().cwiseQuotient(m_resolution.cast<float>());
-    if (!m.topLeftCorner<3, 3>().isDiagonal() ||
-        !(voxelSize.array() == voxelSize.x()).all() || !(voxelSize.x() > 0.0f))
+    if (!m.topLeftCorner<3, 3>().isDiagonal() || !(voxelSize.array() == voxelSize.x()).all() ||
+        !(voxelSize.x() > 0.0f))
         throw NoriException("grid '{}' does not have cubic, axis-aligned voxels and cannot be "
                             "written as NanoVDB",
                             m_name);
     // The centre of voxel (0, 0, 0) is index (0, 0, 0).
     const nanovdb::Vec3d origin(m(0, 3) + 0.5 * voxelSize.x(), m(1, 3) + 0.5 * voxelSize.x(),
                                 m(2, 3) + 0.5 * voxelSize.x());
-    const nanovdb::CoordBBox box(nanovdb::Coord(0), nanovdb::Coord(m_resolution.x() - 1,
-                                                                   m_resolution.y() - 1,
-                                                                   m_resolution.z() - 1));
+    const nanovdb::CoordBBox box(
+        nanovdb::Coord(0),
+        nanovdb::Coord(m_resolution.x() - 1, m_resolution.y() - 1, m_resolution.z() - 1));
     try {
         if (m_channels == 1) {
             nanovdb::GridBuilder<float> builder(0.0f, nanovdb::GridClass::FogVolume);
             builder.setChecksum(nanovdb::ChecksumMode::Full);
-            builder([&](const nanovdb::Coord &ijk) { return voxel(ijk[0], ijk[1], ijk[2]); },
-                    box);
+            builder([&](const nanovdb::Coord &ijk) { return voxel(ijk[0], ijk[1], ijk[2]); }, box);
             nanovdb::io::writeGrid(filename, builder.getHandle(voxelSize.x(), origin, gridName));
         } else {
             nanovdb::GridBuilder<nanovdb::Vec3f> builder(nanovdb::Vec3f(0.0f));
