@@ -59,6 +59,27 @@ public:
     EClassType getClassType() const override { return kClassType; }
 
 protected:
+    /// Visits the tentative collisions of the ray's segment [mint, maxt] in order: in each
+    /// majorant segment, a Poisson process of rate σ̄ (exponential steps). visit(t, σ̄)
+    /// returns false to stop; the result is false when a visit stopped the walk.
+    template <typename Visit>
+    bool forEachTentativeCollision(const Ray3f &ray, PCG32 &rng, Visit &&visit) const {
+        MajorantIterator segments = majorants(ray, ray.mint, ray.maxt);
+        MajorantSegment segment;
+        while (segments.next(segment)) {
+            if (segment.sigmaMajorant <= 0.0f)
+                continue;
+            for (float t = segment.tMin;;) {
+                t -= std::log1p(-rng.nextFloat()) / segment.sigmaMajorant;
+                if (t >= segment.tMax)
+                    break;
+                if (!visit(t, segment.sigmaMajorant))
+                    return false;
+            }
+        }
+        return true;
+    }
+
     /// Reads `sigmaS` and `sigmaA`, or `sigmaT` and `albedo` (never a mix), times `scale`,
     /// into σt and the single-scattering albedo σs/σt; each colour is non-negative and
     /// finite. `plugin` names the medium in messages.

@@ -72,26 +72,15 @@ public:
         // tentative collision is real with probability σt/σ̄ and the weight of a real
         // one, σs·T/(σt·T), is the albedo.
         MediumSample result;
-        MajorantIterator segments = majorants(ray, ray.mint, ray.maxt);
-        MajorantSegment segment;
-        while (segments.next(segment)) {
-            if (segment.sigmaMajorant <= 0.0f)
-                continue;
-            float t = segment.tMin;
-            for (;;) {
-                t -= std::log1p(-rng.nextFloat()) / segment.sigmaMajorant;
-                if (t >= segment.tMax)
-                    break;
-                const Point3f p = ray(t);
-                if (rng.nextFloat() * segment.sigmaMajorant < density(p) * m_scale) {
-                    result.scattered = true;
-                    result.t = t;
-                    result.p = p;
-                    result.weight = albedo(p);
-                    return result;
-                }
-            }
-        }
+        const bool passed = forEachTentativeCollision(ray, rng, [&](float t, float sigmaMajorant) {
+            const Point3f p = ray(t);
+            if (rng.nextFloat() * sigmaMajorant >= density(p) * m_scale)
+                return true; // a null collision
+            result = {true, t, p, albedo(p)};
+            return false;
+        });
+        if (!passed)
+            return result;
         result.t = ray.maxt;
         result.p = ray(ray.maxt);
         return result;

@@ -61,51 +61,31 @@ Color3f Medium::transmittance(const Ray3f &ray, PCG32 &rng, TransmittanceEstimat
 }
 
 Color3f Medium::deltaTracking(const Ray3f &ray, PCG32 &rng) const {
-    // Tentative collisions at rate σ̄ in each majorant segment; one is real with
-    // probability P = mean(σt)/σ̄, which ends the estimate at 0. For coloured σt the
-    // survivors carry (1 − σt/σ̄)/(1 − P), so each step's expected factor is the ratio
-    // tracking one, 1 − σt/σ̄ (PBR 4th ed. §14.2.2); for grey media the weight stays 1.
+    // A tentative collision is real with probability P = mean(σt)/σ̄, which ends the
+    // estimate at 0. For coloured σt the survivors carry (1 − σt/σ̄)/(1 − P), so each
+    // step's expected factor is the ratio tracking one, 1 − σt/σ̄ (PBR 4th ed. §14.2.2);
+    // for grey media the weight stays 1.
     Color3f weight(1.0f);
-    MajorantIterator segments = majorants(ray, ray.mint, ray.maxt);
-    MajorantSegment segment;
-    while (segments.next(segment)) {
-        if (segment.sigmaMajorant <= 0.0f)
-            continue;
-        float t = segment.tMin;
-        for (;;) {
-            t -= std::log1p(-rng.nextFloat()) / segment.sigmaMajorant;
-            if (t >= segment.tMax)
-                break;
-            const Color3f nullRatio = Color3f(1.0f) - sigmaT(ray(t)) / segment.sigmaMajorant;
-            const float realProbability = 1.0f - nullRatio.mean();
-            if (realProbability >= 1.0f || rng.nextFloat() < realProbability)
-                return Color3f(0.0f);
-            weight *= nullRatio / (1.0f - realProbability);
-        }
-    }
-    return weight;
+    const bool survived = forEachTentativeCollision(ray, rng, [&](float t, float sigmaMajorant) {
+        const Color3f nullRatio = Color3f(1.0f) - sigmaT(ray(t)) / sigmaMajorant;
+        const float realProbability = 1.0f - nullRatio.mean();
+        if (realProbability >= 1.0f || rng.nextFloat() < realProbability)
+            return false;
+        weight *= nullRatio / (1.0f - realProbability);
+        return true;
+    });
+    return survived ? weight : Color3f(0.0f);
 }
 
 Color3f Medium::ratioTracking(const Ray3f &ray, PCG32 &rng) const {
-    // The same tentative collisions, each multiplying by the probability 1 − σt/σ̄ that
-    // it is a null collision (Novák et al. 2014, eq. 12).
+    // Each tentative collision multiplies by the probability 1 − σt/σ̄ that it is a null
+    // collision (Novák et al. 2014, eq. 12).
     Color3f weight(1.0f);
-    MajorantIterator segments = majorants(ray, ray.mint, ray.maxt);
-    MajorantSegment segment;
-    while (segments.next(segment)) {
-        if (segment.sigmaMajorant <= 0.0f)
-            continue;
-        float t = segment.tMin;
-        for (;;) {
-            t -= std::log1p(-rng.nextFloat()) / segment.sigmaMajorant;
-            if (t >= segment.tMax)
-                break;
-            weight *= Color3f(1.0f) - sigmaT(ray(t)) / segment.sigmaMajorant;
-            if ((weight <= 0.0f).all())
-                return Color3f(0.0f);
-        }
-    }
-    return weight;
+    const bool survived = forEachTentativeCollision(ray, rng, [&](float t, float sigmaMajorant) {
+        weight *= Color3f(1.0f) - sigmaT(ray(t)) / sigmaMajorant;
+        return !(weight <= 0.0f).all();
+    });
+    return survived ? weight : Color3f(0.0f);
 }
 
 Color3f Medium::rayMarching(const Ray3f &ray, PCG32 &rng, float stepSize) const {
