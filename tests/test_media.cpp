@@ -356,6 +356,27 @@ TEST_CASE("volpath: an absorbing slab between camera and light gives Le exp(-sig
             .passed);
 }
 
+TEST_CASE("volpath: rays track their medium across nested boundaries", "[media][ttest]") {
+    // Through an absorbing sphere (r = 1.5, σa = 0.3) holding a denser one (r = 0.7,
+    // σa = 1, its exterior the outer medium): chords of 3 and 1.4 through the centres.
+    auto scene = pinholeScene(R"(
+        <medium type="homogeneous" id="outer"><color name="sigmaA" value="0.3"/></medium>
+        <mesh type="sphere"><float name="radius" value="1.5"/><ref id="outer" name="interior"/></mesh>
+        <mesh type="sphere"><float name="radius" value="0.7"/><ref id="outer" name="exterior"/>
+            <medium type="homogeneous" name="interior"><color name="sigmaA" value="1"/></medium></mesh>
+        <mesh type="sphere"><point name="center" value="0, 0, -4"/><float name="radius" value="1"/>
+            <emitter type="area"><color name="radiance" value="2"/></emitter></mesh>)");
+    const double reference = 2.0 * std::exp(-0.3 * (3.0 - 1.4) - 1.0 * 1.4);
+    const PixelTTest test = tTestPixel(*scene, reference, 20000);
+    INFO(test.summary());
+    CHECK(test.result.passed);
+    // Negative control: leaving the inner sphere into vacuum instead of the outer medium.
+    const double lost = 2.0 * std::exp(-0.3 * 0.8 - 1.0 * 1.4);
+    CHECK_FALSE(
+        studentTTest(test.moments.mean, test.moments.variance(), test.moments.count, lost, 0.01)
+            .passed);
+}
+
 TEST_CASE("volpath: white furnaces of albedo-1 media behind index-matched and dielectric "
           "boundaries see 1",
           "[media][ttest]") {
@@ -377,6 +398,16 @@ TEST_CASE("volpath: white furnaces of albedo-1 media behind index-matched and di
                 <medium type="heterogeneous" name="interior"><string name="filename" value="cloud.nvdb"/>
                     <float name="scale" value="10"/><color name="albedo" value="1"/>
                     <phase type="hg"><float name="g" value="-0.3"/></phase></medium></mesh>)"},
+        {"nested boundaries: a dense sphere in a thin one, the inner one's exterior the outer "
+         "medium",
+         R"(
+            <medium type="homogeneous" id="outer"><color name="sigmaT" value="0.8"/>
+                <color name="albedo" value="1"/></medium>
+            <mesh type="sphere"><float name="radius" value="1.5"/><ref id="outer" name="interior"/></mesh>
+            <mesh type="sphere"><float name="radius" value="0.7"/><ref id="outer" name="exterior"/>
+                <medium type="homogeneous" name="interior"><color name="sigmaT" value="6"/>
+                    <color name="albedo" value="1"/><phase type="hg"><float name="g" value="0.8"/></phase>
+                </medium></mesh>)"},
         {"camera inside a homogeneous fog, in an index-matched sphere", R"(
             <mesh type="sphere"><float name="radius" value="8"/><ref id="fog" name="interior"/></mesh>)"}};
     for (const auto &[name, content] : cases) {

@@ -100,20 +100,23 @@ template <typename ValueT> bool nodesInBounds(const nanovdb::NanoGrid<ValueT> &g
     using UpperT = typename RootT::ChildNodeType;
     using LowerT = typename UpperT::ChildNodeType;
     using LeafT = typename LowerT::ChildNodeType;
-    const auto begin = reinterpret_cast<uintptr_t>(&grid);
+    const auto *bufferStart = reinterpret_cast<const uint8_t *>(&grid);
+    const auto begin = reinterpret_cast<uintptr_t>(bufferStart);
     const auto end = begin + grid.gridSize();
-    // The node of `size` bytes at base + offset, or nullptr when it is not inside.
-    auto nodeAt = [&](const void *base, int64_t offset, size_t size) -> uintptr_t {
+    // The node of `size` bytes at base + offset, as a pointer into the buffer, or nullptr
+    // when it is not inside. The address is checked as an integer before any pointer to
+    // it is formed.
+    auto nodeAt = [&](const void *base, int64_t offset, size_t size) -> const uint8_t * {
         const uintptr_t address = reinterpret_cast<uintptr_t>(base) + uintptr_t(offset);
         if (address < begin || address > end || end - address < size ||
             address % NANOVDB_DATA_ALIGNMENT != 0)
-            return 0;
-        return address;
+            return nullptr;
+        return bufferStart + (address - begin);
     };
     const auto *tree = reinterpret_cast<const nanovdb::TreeData<> *>(&grid + 1);
     if (!nodeAt(tree, 0, sizeof(*tree)))
         return false;
-    const uintptr_t rootAddress = nodeAt(tree, int64_t(tree->mNodeOffset[3]), sizeof(RootT));
+    const uint8_t *rootAddress = nodeAt(tree, int64_t(tree->mNodeOffset[3]), sizeof(RootT));
     if (!rootAddress)
         return false;
     const auto *root = reinterpret_cast<const typename RootT::DataType *>(rootAddress);
@@ -123,12 +126,12 @@ template <typename ValueT> bool nodesInBounds(const nanovdb::NanoGrid<ValueT> &g
         const auto *tile = root->tile(i);
         if (!tile->isChild())
             continue;
-        const uintptr_t upperAddress = nodeAt(root, tile->child, sizeof(UpperT));
+        const uint8_t *upperAddress = nodeAt(root, tile->child, sizeof(UpperT));
         if (!upperAddress)
             return false;
         const auto *upper = reinterpret_cast<const typename UpperT::DataType *>(upperAddress);
         for (auto u = upper->mChildMask.beginOn(); u; ++u) {
-            const uintptr_t lowerAddress = nodeAt(upper, upper->mTable[*u].child, sizeof(LowerT));
+            const uint8_t *lowerAddress = nodeAt(upper, upper->mTable[*u].child, sizeof(LowerT));
             if (!lowerAddress)
                 return false;
             const auto *lower = reinterpret_cast<const typename LowerT::DataType *>(lowerAddress);
