@@ -249,6 +249,34 @@ TEST_CASE("A heterogeneous grid of constant density equals the homogeneous mediu
     }
     checkMean(collided, 1.0 - expected, "collision probability");
 
+    // An albedo grid (3 channels, a gradient along x) instead of the constant: a collision
+    // weighs the albedo at its point.
+    {
+        std::vector<float> albedos;
+        for (int z = 0; z < 2; ++z)
+            for (int y = 0; y < 2; ++y)
+                for (int x = 0; x < 2; ++x)
+                    albedos.insert(albedos.end(), {0.2f, x == 0 ? 0.3f : 0.7f, 0.9f});
+        Eigen::Matrix4f unitToObject = Eigen::Matrix4f::Identity();
+        unitToObject.topLeftCorner<3, 3>() *= 2.0f;
+        unitToObject.topRightCorner<3, 1>() = Eigen::Vector3f::Constant(-1.0f);
+        VolumeGrid(Vector3i::Constant(2), 3, albedos, Transform(unitToObject), "albedo")
+            .writeVol((dir.path() / "albedo.vol").string());
+    }
+    const auto coloured = loadMedium(R"(<medium type="heterogeneous">
+        <string name="filename" value="constant.vol"/><float name="scale" value="0.7"/>
+        <string name="albedoFilename" value="albedo.vol"/>
+        <transform name="toWorld"><scale value="2"/></transform></medium>)",
+                                     dir.path().string());
+    for (int i = 0; i < 2000; ++i) {
+        const MediumSample mRec = coloured->sampleFreeFlight(ray, rng);
+        if (!mRec.scattered)
+            continue;
+        // Voxel centres at x = ±1 (world), linear between them, clamped outside.
+        const float green = 0.5f + 0.2f * std::clamp(mRec.p.x(), -1.0f, 1.0f);
+        CHECK(mRec.weight.isApprox(Color3f(0.2f, green, 0.9f), 1e-4f));
+    }
+
     // Outside the grid's cube the medium is empty.
     const Ray3f outside(Point3f(-5.0f, 3.0f, 0.0f), Vector3f(1.0f, 0.0f, 0.0f), 0.0f, 10.0f);
     CHECK(transmittanceMoments(*heterogeneous, outside, TransmittanceEstimator::Delta, 100)
