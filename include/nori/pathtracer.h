@@ -6,6 +6,8 @@
 
 #include <nori/integrator.h>
 
+#include <functional>
+
 namespace nori {
 
 class BSDF;
@@ -23,6 +25,14 @@ struct Intersection;
 Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
                           const Vector3f &wiLocal, bool mis, float emitterSample,
                           const Point2f &sample);
+
+/// The fraction of light that crosses a shadow ray from a surface toward a light (world
+/// direction toLight): 0 or 1 for plain visibility, a transmittance through media.
+using ShadowTransmittance = std::function<Color3f(const Ray3f &shadowRay, const Vector3f &toLight)>;
+/// sampleDirectLight with the shadow ray's outcome given by `transmittance`.
+Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
+                          const Vector3f &wiLocal, bool mis, float emitterSample,
+                          const Point2f &sample, const ShadowTransmittance &transmittance);
 
 /// The emission `emitter` sends along a scattered (or camera) ray that found it: all of it
 /// after a specular event, else weighted by the balance heuristic against next-event

@@ -152,8 +152,13 @@ public:
             const float rouletteSample = sampler->next1D();
 
             if (bsdf->isDiffuse())
-                radiance += throughput * lightAtSurface(scene, its, *bsdf, wiLocal, medium,
-                                                        emitterSample, lightSample, rng);
+                radiance += throughput *
+                            sampleDirectLight(
+                                scene, its, *bsdf, wiLocal, true, emitterSample, lightSample,
+                                [&](const Ray3f &shadowRay, const Vector3f &toLight) {
+                                    return transmittanceAlong(
+                                        scene, shadowRay, mediumBehind(its, toLight, medium), rng);
+                                });
 
             BSDFQueryRecord bRec(its, wiLocal);
             const Color3f weight = bsdf->sample(bRec, bsdfSample);
@@ -240,63 +245,19 @@ private:
         return Color3f(0.0f);
     }
 
-    /// Samples a light from `ref`: the light, its record and L/(pdf·pmf); nullptr when
-    /// sampling fails.
-    static const Emitter *sampleLight(const Scene *scene, const Point3f &ref, float emitterSample,
-                                      const Point2f &sample, EmitterQueryRecord &lRec,
-                                      Color3f &radianceOverPdf, float &pmf) {
-        float u = emitterSample;
-        const Emitter *emitter = scene->sampleEmitter(u, pmf);
-        if (!emitter || pmf == 0.0f)
-            return nullptr;
-        lRec = EmitterQueryRecord(ref);
-        radianceOverPdf = emitter->sample(lRec, sample) / pmf;
-        return (radianceOverPdf == 0.0f).all() ? nullptr : emitter;
-    }
-
-    /// The balance-heuristic weight of light sampling against scattering with `scatterPdf`.
-    static float lightWeight(const Emitter &emitter, const EmitterQueryRecord &lRec, float pmf,
-                             float scatterPdf) {
-        if (emitter.isDelta())
-            return 1.0f;
-        const float lightPdf = pmf * lRec.pdf;
-        return lightPdf / (lightPdf + scatterPdf);
-    }
-
-    /// Next-event estimation at a surface point in (or next to) `medium`.
-    Color3f lightAtSurface(const Scene *scene, const Intersection &its, const BSDF &bsdf,
-                           const Vector3f &wiLocal, const Medium *medium, float emitterSample,
-                           const Point2f &sample, PCG32 &rng) const {
-        EmitterQueryRecord lRec;
-        Color3f radianceOverPdf;
-        float pmf;
-        const Emitter *emitter =
-            sampleLight(scene, its.p, emitterSample, sample, lRec, radianceOverPdf, pmf);
-        // Light from below the geometric surface cannot reach a shading normal bent toward it.
-        if (!emitter || !its.sidesAgree(lRec.wi))
-            return Color3f(0.0f);
-        const BSDFQueryRecord bRec(its, wiLocal, its.toLocal(lRec.wi), ESolidAngle);
-        const Color3f f = bsdf.eval(bRec);
-        if ((f == 0.0f).all())
-            return Color3f(0.0f);
-        const Color3f transmittance = transmittanceAlong(scene, its.spawnRayTo(lRec.p),
-                                                         mediumBehind(its, lRec.wi, medium), rng);
-        return f * radianceOverPdf * transmittance *
-               (std::abs(Frame::cosTheta(bRec.wo)) *
-                lightWeight(*emitter, lRec, pmf, bsdf.pdf(bRec)));
-    }
-
     /// Next-event estimation at a collision in `medium`, weighted against phase sampling
-    /// (not in single-scattering mode, where nothing continues the path).
+    /// by the balance heuristic (not in single-scattering mode, where nothing continues
+    /// the path).
     Color3f lightAtMediumPoint(const Scene *scene, const Point3f &p, const Medium *medium,
                                const PhaseFunction &phase, const Vector3f &wi, float emitterSample,
                                const Point2f &sample, PCG32 &rng) const {
-        EmitterQueryRecord lRec;
-        Color3f radianceOverPdf;
-        float pmf;
-        const Emitter *emitter =
-            sampleLight(scene, p, emitterSample, sample, lRec, radianceOverPdf, pmf);
-        if (!emitter)
+        float u = emitterSample, pmf;
+        const Emitter *emitter = scene->sampleEmitter(u, pmf);
+        if (!emitter || pmf == 0.0f)
+            return Color3f(0.0f);
+        EmitterQueryRecord lRec(p);
+        const Color3f radianceOverPdf = emitter->sample(lRec, sample) / pmf;
+        if ((radianceOverPdf == 0.0f).all())
             return Color3f(0.0f);
         const PhaseFunctionQueryRecord pRec(wi, lRec.wi, ESolidAngle);
         const Color3f f = phase.eval(pRec);
@@ -305,8 +266,12 @@ private:
         const float distance = (lRec.p - p).norm();
         const Color3f transmittance = transmittanceAlong(
             scene, Ray3f(p, lRec.wi, 0.0f, distance * (1.0f - kShadowEpsilon)), medium, rng);
-        return f * radianceOverPdf * transmittance *
-               (m_singleScatter ? 1.0f : lightWeight(*emitter, lRec, pmf, phase.pdf(pRec)));
+        float weight = 1.0f;
+        if (!m_singleScatter && !emitter->isDelta()) {
+            const float lightPdf = pmf * lRec.pdf;
+            weight = lightPdf / (lightPdf + phase.pdf(pRec));
+        }
+        return f * radianceOverPdf * transmittance * weight;
     }
 
     int m_maxDepth, m_rrDepth;

@@ -2,7 +2,9 @@
 
 namespace nori {
 
-std::string Color3f::toString() const { return fmt::format("[{}, {}, {}]", r(), g(), b()); }
+std::string Color3f::toString() const {
+    return fmt::format("[{}, {}, {}]", r(), g(), b());
+}
 
 Color3f Color3f::toSRGB() const {
     Color3f result;

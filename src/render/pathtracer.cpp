@@ -26,6 +26,15 @@ PathTracer::PathTracer(const PropertyList &props, Strategy strategy, int bounces
 Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
                           const Vector3f &wiLocal, bool mis, float emitterSample,
                           const Point2f &sample) {
+    return sampleDirectLight(scene, its, bsdf, wiLocal, mis, emitterSample, sample,
+                             [scene](const Ray3f &shadowRay, const Vector3f &) {
+                                 return Color3f(scene->rayIntersect(shadowRay) ? 0.0f : 1.0f);
+                             });
+}
+
+Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
+                          const Vector3f &wiLocal, bool mis, float emitterSample,
+                          const Point2f &sample, const ShadowTransmittance &transmittance) {
     float u = emitterSample, pmf;
     const Emitter *emitter = scene->sampleEmitter(u, pmf);
     if (!emitter || pmf == 0.0f)
@@ -33,14 +42,18 @@ Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSD
     EmitterQueryRecord lRec(its.p);
     const Color3f radianceOverPdf = emitter->sample(lRec, sample);
     // Light from below the geometric surface cannot reach a shading normal bent toward it.
-    if ((radianceOverPdf == 0.0f).all() || !its.sidesAgree(lRec.wi) ||
-        scene->rayIntersect(its.spawnRayTo(lRec.p)))
+    if ((radianceOverPdf == 0.0f).all() || !its.sidesAgree(lRec.wi))
         return Color3f(0.0f);
     const BSDFQueryRecord bRec(its, wiLocal, its.toLocal(lRec.wi), ESolidAngle);
     const Color3f f = bsdf.eval(bRec);
     if ((f == 0.0f).all())
         return Color3f(0.0f);
-    Color3f contribution = f * radianceOverPdf * (std::abs(Frame::cosTheta(bRec.wo)) / pmf);
+    // The shadow ray last: it is the expensive part, and f = 0 makes it moot.
+    const Color3f visible = transmittance(its.spawnRayTo(lRec.p), lRec.wi);
+    if ((visible == 0.0f).all())
+        return Color3f(0.0f);
+    Color3f contribution =
+        f * radianceOverPdf * visible * (std::abs(Frame::cosTheta(bRec.wo)) / pmf);
     if (mis && !emitter->isDelta()) {
         // Balance heuristic against BSDF sampling of the same direction.
         const float lightPdf = pmf * lRec.pdf, bsdfPdf = bsdf.pdf(bRec);
@@ -123,7 +136,7 @@ Color3f PathTracer::foundEmission(const Scene *scene, const Emitter &emitter,
 
 Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const EmitterQueryRecord &lRec,
                         bool specularBounce, float scatterPdf) {
-    const Color3f le = emitter.eval(lRec);
+    Color3f le = emitter.eval(lRec);
     if (specularBounce || (le == 0.0f).all())
         return le;
     const float lightPdf = scene->emitterPmf(&emitter) * emitter.pdf(lRec);
