@@ -290,6 +290,10 @@ TEST_CASE("The cloud reads the same from .vol and NanoVDB, and its majorant grid
     const VolumeGrid nvdb = VolumeGrid::load(kMediaDirectory + "/cloud.nvdb");
     // NanoVDB keeps the active voxels only (plus a border of background).
     CHECK((nvdb.resolution().array() < vol.resolution().array() + 2).all());
+    // A dense copy above the limit is refused before it is allocated.
+    const std::string nvdbBytes = readBinaryFile(kMediaDirectory + "/cloud.nvdb", "test");
+    CHECK_THAT(errorOf([&] { VolumeGrid::parse(nvdbBytes, "cloud.nvdb", "", 1000); }),
+               Catch::Contains("more than the 1000 values") && Catch::Contains("cloud.nvdb"));
     PCG32 rng(1, 1);
     for (int i = 0; i < 20000; ++i) {
         // Points of the object space [−1.2, 1.2]³, mapped into each grid's unit cube.

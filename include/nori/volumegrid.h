@@ -28,9 +28,15 @@ public:
     /// the one named `gridName`). Every malformed, truncated or unsupported file, and
     /// every NaN, infinite or negative value, is a NoriException naming the file.
     static VolumeGrid load(const std::string &filename, const std::string &gridName = "");
-    /// load() for a file's bytes; `filename` is for messages.
+    /// The most voxels × channels a grid may hold (4 GiB of floats): a file claiming more
+    /// is an error rather than an allocation that fails later.
+    static constexpr uint64_t kMaxValues = uint64_t(1) << 30;
+
+    /// load() for a file's bytes; `filename` is for messages. A sparse NanoVDB grid whose
+    /// dense copy would exceed `maxValues` is an error (the fuzz target lowers it, since
+    /// a few hundred bytes can describe a grid that fills the limit).
     static VolumeGrid parse(const std::string &bytes, const std::string &filename,
-                            const std::string &gridName = "");
+                            const std::string &gridName = "", uint64_t maxValues = kMaxValues);
     /// Parses the bytes of a Mitsuba .vol file; `filename` is for messages.
     static VolumeGrid parseVol(const std::string &bytes, const std::string &filename);
 

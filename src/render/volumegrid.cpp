@@ -11,10 +11,6 @@ namespace nori {
 
 namespace {
 
-/// The most voxels × channels a grid may hold (4 GiB of floats): a header claiming more
-/// is an error rather than an allocation that fails later.
-constexpr uint64_t kMaxGridValues = uint64_t(1) << 30;
-
 /// Mitsuba's .vol header: "VOL", version 3, encoding (1: float32), resolution,
 /// channels, bounding box (min, max) — 48 bytes, little-endian (Mitsuba 0.6 GridDataSource).
 constexpr size_t kVolHeaderBytes = 48;
@@ -45,7 +41,7 @@ Eigen::Matrix4f nanovdbIndexToObject(const nanovdb::Map &map) {
 /// integer index coordinates, OpenVDB's convention).
 template <typename ValueT>
 VolumeGrid densify(const nanovdb::NanoGrid<ValueT> &grid, int channels, const std::string &filename,
-                   const std::string &gridName) {
+                   const std::string &gridName, uint64_t maxValues) {
     const nanovdb::CoordBBox box = grid.indexBBox();
     if (box.empty())
         throw NoriException("NanoVDB file '{}': grid '{}' has no active voxels", filename,
@@ -61,11 +57,11 @@ VolumeGrid densify(const nanovdb::NanoGrid<ValueT> &grid, int channels, const st
     const Vector3i resolution(activeSize[0] + 2, activeSize[1] + 2, activeSize[2] + 2);
     const uint64_t count = uint64_t(resolution.x()) * uint64_t(resolution.y()) *
                            uint64_t(resolution.z()) * uint64_t(channels);
-    if (count > kMaxGridValues)
+    if (count > maxValues)
         throw NoriException("NanoVDB file '{}': grid '{}' spans {}x{}x{} voxels, more than the {} "
                             "values a dense grid may hold",
                             filename, gridName, activeSize[0], activeSize[1], activeSize[2],
-                            kMaxGridValues);
+                            maxValues);
     std::vector<float> values(count);
     auto accessor = grid.getAccessor();
     size_t index = 0;
@@ -147,7 +143,7 @@ template <typename ValueT> bool nodesInBounds(const nanovdb::NanoGrid<ValueT> &g
 /// here, before NanoVDB sees the data, so that sizes read from a damaged file cannot
 /// cause huge allocations or reads past the end; the grid is then checked by NanoVDB's
 /// own validator (structure and checksum).
-VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename,
+VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename, uint64_t maxValues,
                         const std::string &gridName) {
     using nanovdb::io::Header;
     using nanovdb::io::MetaData;
@@ -231,11 +227,11 @@ VolumeGrid parseNanoVDB(const std::string &bytes, const std::string &filename,
             if (isFloat) {
                 const auto *grid = reinterpret_cast<const nanovdb::NanoGrid<float> *>(header);
                 check(grid);
-                return densify(*grid, 1, filename, name);
+                return densify(*grid, 1, filename, name, maxValues);
             }
             const auto *grid = reinterpret_cast<const nanovdb::NanoGrid<nanovdb::Vec3f> *>(header);
             check(grid);
-            return densify(*grid, 3, filename, name);
+            return densify(*grid, 3, filename, name, maxValues);
         }
     }
     if (gridName.empty())
@@ -275,7 +271,7 @@ VolumeGrid VolumeGrid::load(const std::string &filename, const std::string &grid
 }
 
 VolumeGrid VolumeGrid::parse(const std::string &bytes, const std::string &filename,
-                             const std::string &gridName) {
+                             const std::string &gridName, uint64_t maxValues) {
     if (bytes.compare(0, 3, "VOL") == 0) {
         if (!gridName.empty())
             throw NoriException("'{}' is a .vol file, which holds one unnamed grid; remove the "
@@ -283,7 +279,7 @@ VolumeGrid VolumeGrid::parse(const std::string &bytes, const std::string &filena
                                 filename, gridName);
         return parseVol(bytes, filename);
     }
-    return parseNanoVDB(bytes, filename, gridName);
+    return parseNanoVDB(bytes, filename, maxValues, gridName);
 }
 
 VolumeGrid VolumeGrid::parseVol(const std::string &bytes, const std::string &filename) {
@@ -310,9 +306,9 @@ VolumeGrid VolumeGrid::parseVol(const std::string &bytes, const std::string &fil
                             filename, channels);
     const uint64_t count = uint64_t(resolution.x()) * uint64_t(resolution.y()) *
                            uint64_t(resolution.z()) * uint64_t(channels);
-    if (count > kMaxGridValues)
+    if (count > kMaxValues)
         throw NoriException(".vol file '{}' claims {} values, more than the {} a grid may hold",
-                            filename, count, kMaxGridValues);
+                            filename, count, kMaxValues);
     const uint64_t payload = bytes.size() - kVolHeaderBytes;
     if (payload != count * sizeof(float))
         throw NoriException(".vol file '{}' has {} bytes of data; {}x{}x{} voxels of {} channels "
