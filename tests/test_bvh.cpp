@@ -327,7 +327,7 @@ TEST_CASE("Bad geometry is skipped with a count, never a crash", "[bvh]") {
     CHECK(bvh.statistics().skippedPrimitives == 2);
 }
 
-TEST_CASE("BVH nodes are 32 bytes, pairs share a cache line, the tree is valid", "[bvh]") {
+TEST_CASE("BVH nodes are 128 bytes on cache lines, the 4-wide tree is valid", "[bvh]") {
     PCG32 random(11, 12);
     std::vector<BoundingBox3f> boxes;
     for (int i = 0; i < 20000; ++i) {
@@ -337,31 +337,59 @@ TEST_CASE("BVH nodes are 32 bytes, pairs share a cache line, the tree is valid",
     // Many identical boxes force the fallback split without an infinite loop.
     for (int i = 0; i < 5000; ++i)
         boxes.emplace_back(Point3f(1, 1, 1), Point3f(2, 2, 2));
-    BVH bvh;
-    bvh.build(boxes);
-    CHECK(sizeof(BVHNode) == 32);
-    CHECK(reinterpret_cast<uintptr_t>(&bvh.node(0)) % 64 == 0);
-    CHECK(bvh.statistics().primitives == 25000);
-    CHECK(bvh.statistics().maxDepth < BVH::kMaxDepth);
+    for (const uint32_t alignment : {1u, 4u}) {
+        BVH bvh;
+        bvh.build(boxes, BVH::kIntersectionCost, alignment);
+        CHECK(sizeof(BVHNode) == 128);
+        CHECK(reinterpret_cast<uintptr_t>(&bvh.node(0)) % 64 == 0);
+        CHECK(bvh.statistics().primitives == 25000);
+        CHECK(bvh.statistics().maxDepth < BVH::kMaxDepth);
 
-    // Every primitive sits in exactly one leaf, and each node's box contains its children.
-    std::vector<int> seen(boxes.size(), 0);
-    for (size_t i = 0; i < bvh.nodeCount(); ++i) {
-        if (i == 1)
-            continue; // padding slot
-        const BVHNode &node = bvh.node(i);
-        if (node.count > 0) {
-            CHECK(node.count <= BVH::kMaxLeafSize);
-            for (uint32_t slot = node.offset; slot < node.offset + node.count; ++slot)
-                ++seen[bvh.primitiveOrder()[slot]];
-            continue;
-        }
-        CHECK(node.offset % 2 == 0);
-        for (uint32_t child = node.offset; child < node.offset + 2; ++child)
-            for (int a = 0; a < 3; ++a) {
-                CHECK(bvh.node(child).boundsMin[a] >= node.boundsMin[a]);
-                CHECK(bvh.node(child).boundsMax[a] <= node.boundsMax[a]);
+        // Every primitive sits in exactly one leaf, whose box (stored in its parent)
+        // holds it; each child node's boxes lie in the box its parent stores for it; a
+        // leaf starts on the alignment; the tree is 4-wide (most nodes are full).
+        std::vector<int> seen(boxes.size(), 0);
+        size_t usedSlots = 0, padding = 0;
+        auto contains = [](const BoundingBox3f &outer, const BoundingBox3f &inner) {
+            return (outer.min.array() <= inner.min.array()).all() &&
+                   (outer.max.array() >= inner.max.array()).all();
+        };
+        for (size_t i = 0; i < bvh.nodeCount(); ++i) {
+            const BVHNode &node = bvh.node(i);
+            for (int c = 0; c < BVHNode::kWidth; ++c) {
+                const uint32_t child = node.child[c];
+                const BoundingBox3f box = node.childBounds(c);
+                if (!BVHNode::isLeaf(child)) {
+                    ++usedSlots;
+                    REQUIRE(child < bvh.nodeCount());
+                    for (int g = 0; g < BVHNode::kWidth; ++g)
+                        if (bvh.node(child).childBounds(g).isValid())
+                            CHECK(contains(box, bvh.node(child).childBounds(g)));
+                    continue;
+                }
+                const uint32_t count = BVHNode::leafCount(child);
+                const uint32_t first = BVHNode::leafFirst(child);
+                if (count == 0) {
+                    CHECK_FALSE(box.isValid()); // an unused slot: an empty box
+                    continue;
+                }
+                ++usedSlots;
+                CHECK(count <= BVH::kMaxLeafSize);
+                CHECK(first % alignment == 0);
+                for (uint32_t slot = first; slot < first + count; ++slot) {
+                    const uint32_t primitive = bvh.primitiveOrder()[slot];
+                    REQUIRE(primitive < boxes.size());
+                    ++seen[primitive];
+                    CHECK(contains(box, boxes[primitive]));
+                }
             }
+        }
+        for (uint32_t primitive : bvh.primitiveOrder())
+            padding += primitive == BVH::kNoPrimitive ? 1 : 0;
+        CHECK(std::all_of(seen.begin(), seen.end(), [](int count) { return count == 1; }));
+        CHECK(bvh.primitiveOrder().size() == boxes.size() + padding);
+        CHECK(usedSlots > 3 * bvh.nodeCount());
+        if (alignment == 1)
+            CHECK(padding == 0);
     }
-    CHECK(std::all_of(seen.begin(), seen.end(), [](int count) { return count == 1; }));
 }

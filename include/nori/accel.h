@@ -11,6 +11,7 @@
 #include <nori/bvh.h>
 #include <nori/shape.h>
 #include <nori/transform.h>
+#include <nori/trianglepacket.h>
 
 #include <unordered_map>
 #include <vector>
@@ -48,6 +49,10 @@ public:
     /// then to instances in the order they were added, so the answer does not depend on
     /// the trees. A hit inside an instance is reported in world space.
     bool rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) const;
+    /// The same closest hit as rayIntersect, reported as its distance, shape and
+    /// primitive only (what Embree's rtcIntersect1 returns): no shading information is
+    /// computed, for queries that need no more (and for nori-bench's comparison).
+    bool closestHit(const Ray3f &ray, float &t, const Shape *&shape, uint32_t &primIndex) const;
     const BoundingBox3f &getBoundingBox() const { return m_bbox; }
     /// The primitive BVH's statistics.
     const BVHBuildStatistics &statistics() const { return m_bvh.statistics(); }
@@ -60,13 +65,6 @@ public:
     size_t memoryBytes() const;
 
 private:
-    /// A triangle's vertices, in leaf order. Other kinds of primitive have a NaN p0.x
-    /// (meshes have no non-finite vertices: Mesh drops such triangles), which saves a
-    /// separate flag and the cache miss of reading it.
-    struct TriangleVertices {
-        Point3f p0, p1, p2;
-        bool isTriangle() const { return !std::isnan(p0.x()); }
-    };
     /// Which shape and primitive a leaf slot holds; read only for the hit.
     struct PrimitiveId {
         uint32_t shapeIndex;
@@ -101,9 +99,11 @@ private:
 
     std::vector<const Shape *> m_shapes;
     std::vector<uint8_t> m_isMesh; ///< per shape: a Mesh, tested inline
-    // Per leaf slot, split by how often traversal reads them (memory, not compute,
-    // bounds incoherent rays): vertices for every test, ids only for the closest hit.
-    std::vector<TriangleVertices> m_triangles;
+    // In leaf order, split by how often traversal reads them (memory, not compute,
+    // bounds incoherent rays): vertices for every test, four leaf slots to a packet
+    // (other kinds of primitive leave their lane NaN), and per slot the ids, read for
+    // the closest hit and for primitives that are not triangles.
+    std::vector<TrianglePacket> m_packets;
     std::vector<PrimitiveId> m_ids;
     BVH m_bvh;
 

@@ -4,6 +4,9 @@
 //
 //   nori-bench --make-mesh 1000000 sphere.obj
 //   nori-bench sphere.obj [--rays N] [--threads T]
+// It first checks, ray by ray, that the BVH answers exactly as a brute-force loop on a
+// small mesh, then measures with one thread (pinned to one core) and with T threads
+// (default: all).
 #include <nori/accel.h>
 #include <nori/mesh.h>
 #include <nori/pcg32.h>
@@ -18,14 +21,22 @@
 #include <embree3/rtcore.h>
 #endif
 
+#include <sched.h>
+#include <unistd.h>
+
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <thread>
 
 using namespace nori;
 
 namespace {
+
+constexpr const char *kUsage = "usage: nori-bench <mesh.obj> [--rays N] [--threads T]\n"
+                               "       nori-bench --make-mesh <triangles> <out.obj>\n";
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -34,7 +45,8 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 /// A sphere of radius ~1 with bumps r(θ, φ) = 1 + 0.05·sin(12θ)·sin(12φ), tessellated as
 /// a latitude–longitude grid with single-vertex poles: 2·C·(R − 1) triangles for R rings
 /// and C = 2R columns, with R chosen to come closest to the requested count.
-void writeBumpySphere(size_t requestedTriangles, const std::string &filename) {
+/// Returns the number of triangles written.
+size_t writeBumpySphere(size_t requestedTriangles, const std::string &filename) {
     const int rings = std::max(
         2, static_cast<int>(std::lround(0.5 * (1.0 + std::sqrt(1.0 + requestedTriangles)))));
     const int columns = 2 * rings;
@@ -67,7 +79,7 @@ void writeBumpySphere(size_t requestedTriangles, const std::string &filename) {
             triangles += 2;
         }
     }
-    std::cout << "triangles " << triangles << "\n";
+    return triangles;
 }
 
 struct RaySet {
@@ -205,10 +217,126 @@ private:
 };
 #endif
 
+/// Closest hit of every ray on a small bumpy sphere, through the Accel and through a
+/// brute-force loop over all triangles (the scalar watertight test); returns how many
+/// rays disagree on hit, t or triangle.
+size_t equalityCheck(const std::string &meshFile, size_t rayCount) {
+    std::shared_ptr<Mesh> mesh = loadMesh(meshFile);
+    Accel accel;
+    accel.addShape(mesh.get());
+    accel.build();
+    size_t mismatches = 0, rays = 0;
+    for (const RaySet &set : makeRaySets(rayCount)) {
+        for (const Ray3f &ray : set.rays) {
+            bool expected = false;
+            float tExpected = 0.0f;
+            uint32_t primExpected = 0;
+            for (uint32_t i = 0; i < mesh->getPrimitiveCount(); ++i) {
+                float t;
+                Point2f coords;
+                if (mesh->rayIntersect(i, ray, t, coords) && (!expected || t < tExpected)) {
+                    expected = true;
+                    tExpected = t;
+                    primExpected = i;
+                }
+            }
+            Intersection its;
+            const bool actual = accel.rayIntersect(ray, its, set.occlusion);
+            const bool same =
+                set.occlusion
+                    ? actual == expected
+                    : actual == expected &&
+                          (!expected || (its.t == tExpected && its.primIndex == primExpected));
+            mismatches += same ? 0 : 1;
+            ++rays;
+        }
+    }
+    std::cout << fmt::format(
+        "equality_mesh_triangles {}\nequality_rays {}\nequality_mismatches {}\n",
+        mesh->getPrimitiveCount(), rays, mismatches);
+    return mismatches;
+}
+
+/// Pins the calling thread to one CPU (the last), or releases it to all with cpu < 0.
+void pinToCpu(int cpu) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    const int cpus = static_cast<int>(std::thread::hardware_concurrency());
+    if (cpu >= 0)
+        CPU_SET(cpu, &set);
+    else
+        for (int i = 0; i < cpus; ++i)
+            CPU_SET(i, &set);
+    if (sched_setaffinity(0, sizeof(set), &set) != 0)
+        std::cerr << "Warning: cannot set the CPU affinity\n";
+}
+
+/// Builds and traces the ray sets with `threads` threads, ours then Embree's; every
+/// figure is printed with the prefix (`t1_`, `tN_`).
+void measure(const Mesh &mesh, const std::vector<RaySet> &sets, int threads,
+             const std::string &prefix) {
+    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<size_t>(threads));
+    std::cout << prefix << "threads " << threads << "\n";
+    Accel accel;
+    accel.addShape(&mesh);
+    auto start = std::chrono::steady_clock::now();
+    accel.build();
+    const double buildSeconds = secondsSince(start);
+    std::cout << fmt::format("{}build_s {:.4f}\n", prefix, buildSeconds);
+    if (threads == 1)
+        std::cout << fmt::format(
+            "bvh_nodes {}\nbvh_leaves {}\nbvh_max_depth {}\nbvh_sah_cost {:.2f}\n"
+            "bvh_mbytes {:.1f}\n",
+            accel.statistics().nodes, accel.statistics().leaves, accel.statistics().maxDepth,
+            accel.statistics().sahCost, accel.memoryBytes() * 1e-6);
+    // Closest hits twice: as Embree's rtcIntersect1 answers (t and primitive), which the
+    // ratios compare, and with the full hit information the renderer uses.
+    std::vector<Measurement> ours;
+    for (const RaySet &set : sets) {
+        ours.push_back(traceAll(set, [&](const Ray3f &ray, bool occlusion) {
+            if (occlusion) {
+                Intersection its;
+                return accel.rayIntersect(ray, its, true);
+            }
+            float t;
+            const Shape *shape;
+            uint32_t primIndex;
+            return accel.closestHit(ray, t, shape, primIndex);
+        }));
+        std::cout << fmt::format("{}{}_mrays {:.3f}\n{}{}_hits {}\n", prefix, set.name,
+                                 set.rays.size() / ours.back().seconds * 1e-6, prefix, set.name,
+                                 ours.back().hits);
+        if (!set.occlusion) {
+            const Measurement full = traceAll(set, [&](const Ray3f &ray, bool) {
+                Intersection its;
+                return accel.rayIntersect(ray, its, false);
+            });
+            std::cout << fmt::format("{}{}_with_hit_info_mrays {:.3f}\n", prefix, set.name,
+                                     set.rays.size() / full.seconds * 1e-6);
+        }
+    }
+#ifdef NORI_HAVE_EMBREE
+    double embreeBuild = 0.0;
+    EmbreeScene embree(mesh, threads, embreeBuild);
+    std::cout << fmt::format("{}embree_build_s {:.4f}\n{}build_ratio {:.3f}\n", prefix, embreeBuild,
+                             prefix, buildSeconds / embreeBuild);
+    for (size_t i = 0; i < sets.size(); ++i) {
+        Measurement theirs = traceAll(sets[i], [&](const Ray3f &ray, bool occlusion) {
+            return embree.trace(ray, occlusion);
+        });
+        std::cout << fmt::format(
+            "{}embree_{}_mrays {:.3f}\n{}embree_{}_hits {}\n{}{}_ratio {:.3f}\n", prefix,
+            sets[i].name, sets[i].rays.size() / theirs.seconds * 1e-6, prefix, sets[i].name,
+            theirs.hits, prefix, sets[i].name, theirs.seconds / ours[i].seconds);
+    }
+#endif
+}
+
 int run(int argc, char **argv) {
     std::string meshFile;
     size_t rayCount = 1000000;
-    int threads = 1;
+    int threads = static_cast<int>(std::thread::hardware_concurrency());
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         auto value = [&]() -> std::string {
@@ -220,15 +348,15 @@ int run(int argc, char **argv) {
             const int triangles = toInt(value(), "--make-mesh");
             if (i + 1 >= argc || triangles <= 0)
                 throw NoriException("usage: nori-bench --make-mesh <triangles> <out.obj>");
-            writeBumpySphere(static_cast<size_t>(triangles), argv[++i]);
+            std::cout << "triangles " << writeBumpySphere(static_cast<size_t>(triangles), argv[++i])
+                      << "\n";
             return 0;
         } else if (arg == "--rays") {
             rayCount = static_cast<size_t>(toInt(value(), "--rays"));
         } else if (arg == "--threads") {
             threads = toInt(value(), "--threads");
         } else if (arg == "-h" || arg == "--help") {
-            std::cout << "usage: nori-bench <mesh.obj> [--rays N] [--threads T]\n"
-                         "       nori-bench --make-mesh <triangles> <out.obj>\n";
+            std::cout << kUsage;
             return 0;
         } else if (!arg.empty() && arg[0] != '-' && meshFile.empty()) {
             meshFile = arg;
@@ -237,55 +365,29 @@ int run(int argc, char **argv) {
         }
     }
     if (meshFile.empty() || rayCount == 0 || threads <= 0)
-        throw NoriException("usage: nori-bench <mesh.obj> [--rays N] [--threads T]");
+        throw NoriException("{}", kUsage);
 
-    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism,
-                                    static_cast<size_t>(threads));
+    // First the check that the fast paths answer exactly as the reference does.
+    const std::string smallMesh = fmt::format("/tmp/nori-bench-equality-{}.obj", getpid());
+    writeBumpySphere(5000, smallMesh);
+    const size_t mismatches = equalityCheck(smallMesh, 20000);
+    std::remove(smallMesh.c_str());
+    if (mismatches > 0)
+        throw NoriException("{} rays differ from the brute-force reference", mismatches);
+
     std::shared_ptr<Mesh> mesh = loadMesh(meshFile);
     const std::vector<RaySet> sets = makeRaySets(rayCount);
-
     std::cout << "triangles " << mesh->getPrimitiveCount() << "\n";
-    std::cout << "threads " << threads << "\n";
     std::cout << "rays " << sets.back().rays.size() << "\n";
-
-    Accel accel;
-    accel.addShape(mesh.get());
-    auto start = std::chrono::steady_clock::now();
-    accel.build();
-    const double buildSeconds = secondsSince(start);
-    std::cout << fmt::format("build_s {:.4f}\n", buildSeconds);
-    std::cout << fmt::format("bvh_nodes {}\nbvh_max_depth {}\nbvh_sah_cost {:.2f}\n",
-                             accel.statistics().nodes, accel.statistics().maxDepth,
-                             accel.statistics().sahCost);
-
-    std::vector<Measurement> ours;
-    for (const RaySet &set : sets) {
-        ours.push_back(traceAll(set, [&](const Ray3f &ray, bool occlusion) {
-            Intersection its;
-            return accel.rayIntersect(ray, its, occlusion);
-        }));
-        std::cout << fmt::format("{}_mrays {:.3f}\n{}_hits {}\n", set.name,
-                                 set.rays.size() / ours.back().seconds * 1e-6, set.name,
-                                 ours.back().hits);
-    }
-
-#ifdef NORI_HAVE_EMBREE
-    double embreeBuild = 0.0;
-    EmbreeScene embree(*mesh, threads, embreeBuild);
-    std::cout << fmt::format("embree_build_s {:.4f}\nbuild_ratio {:.3f}\n", embreeBuild,
-                             buildSeconds / embreeBuild);
-    for (size_t i = 0; i < sets.size(); ++i) {
-        Measurement theirs = traceAll(sets[i], [&](const Ray3f &ray, bool occlusion) {
-            return embree.trace(ray, occlusion);
-        });
-        std::cout << fmt::format("embree_{}_mrays {:.3f}\nembree_{}_hits {}\n{}_ratio {:.3f}\n",
-                                 sets[i].name, sets[i].rays.size() / theirs.seconds * 1e-6,
-                                 sets[i].name, theirs.hits, sets[i].name,
-                                 theirs.seconds / ours[i].seconds);
-    }
-#else
+#ifndef NORI_HAVE_EMBREE
     std::cout << "embree not available (install libembree-dev and rebuild to compare)\n";
 #endif
+    // One thread, pinned to one core, then all threads.
+    pinToCpu(static_cast<int>(std::thread::hardware_concurrency()) - 1);
+    measure(*mesh, sets, 1, "t1_");
+    pinToCpu(-1);
+    if (threads > 1)
+        measure(*mesh, sets, threads, fmt::format("t{}_", threads));
     return 0;
 }
 

@@ -57,30 +57,35 @@ void Accel::build() {
                               bounds[i] =
                                   m_shapes[refs[i].first]->getPrimitiveBoundingBox(refs[i].second);
                       });
-    m_bvh.build(bounds);
+    m_bvh.build(bounds, BVH::kIntersectionCost, TrianglePacket::kWidth);
     std::vector<BoundingBox3f>().swap(bounds); // frees it (`= {}` would keep the capacity)
     m_bbox = m_bvh.getBoundingBox();
 
-    // Copy the primitives into leaf order.
+    // Copy the primitives into leaf order: triangles into packets of four slots.
     const std::vector<uint32_t> order = m_bvh.takePrimitiveOrder();
-    m_triangles.resize(order.size());
-    m_ids.resize(order.size());
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, order.size(), 4096),
-        [&](const tbb::blocked_range<size_t> &range) {
-            for (size_t slot = range.begin(); slot != range.end(); ++slot) {
-                const auto [shapeIndex, primIndex] = refs[order[slot]];
-                m_ids[slot] = {shapeIndex, primIndex};
-                if (!m_isMesh[shapeIndex]) {
-                    m_triangles[slot].p0.x() = std::numeric_limits<float>::quiet_NaN();
-                    continue;
-                }
-                const auto *mesh = static_cast<const Mesh *>(m_shapes[shapeIndex]);
-                const Vector3i &face = mesh->getFaces()[primIndex];
-                const auto &positions = mesh->getVertexPositions();
-                m_triangles[slot] = {positions[face[0]], positions[face[1]], positions[face[2]]};
-            }
-        });
+    const size_t packetCount = (order.size() + TrianglePacket::kWidth - 1) / TrianglePacket::kWidth;
+    m_packets.resize(packetCount);
+    m_ids.assign(packetCount * TrianglePacket::kWidth, {BVH::kNoPrimitive, BVH::kNoPrimitive});
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, packetCount, 1024),
+                      [&](const tbb::blocked_range<size_t> &range) {
+                          for (size_t packet = range.begin(); packet != range.end(); ++packet)
+                              for (int lane = 0; lane < TrianglePacket::kWidth; ++lane) {
+                                  const size_t slot = packet * TrianglePacket::kWidth + lane;
+                                  m_packets[packet].clear(lane);
+                                  if (slot >= order.size() || order[slot] == BVH::kNoPrimitive)
+                                      continue;
+                                  const auto [shapeIndex, primIndex] = refs[order[slot]];
+                                  m_ids[slot] = {shapeIndex, primIndex};
+                                  if (!m_isMesh[shapeIndex])
+                                      continue;
+                                  const auto *mesh =
+                                      static_cast<const Mesh *>(m_shapes[shapeIndex]);
+                                  const Vector3i &face = mesh->getFaces()[primIndex];
+                                  const auto &positions = mesh->getVertexPositions();
+                                  m_packets[packet].set(lane, positions[face[0]],
+                                                        positions[face[1]], positions[face[2]]);
+                              }
+                      });
 
     // The instances, likewise in leaf order of their own tree.
     m_instanceBvh.build(m_instanceBounds, kInstanceIntersectionCost);
@@ -106,7 +111,7 @@ void Accel::build() {
 size_t Accel::memoryBytes() const {
     // NOLINTBEGIN(bugprone-sizeof-expression): two of the vectors hold pointers, whose
     // size is what they cost.
-    return m_bvh.nodeCount() * sizeof(BVHNode) + m_triangles.capacity() * sizeof(TriangleVertices) +
+    return m_bvh.nodeCount() * sizeof(BVHNode) + m_packets.capacity() * sizeof(TrianglePacket) +
            m_ids.capacity() * sizeof(PrimitiveId) + m_instanceBvh.nodeCount() * sizeof(BVHNode) +
            m_instances.capacity() * sizeof(InstanceRecord) +
            m_targets.capacity() * sizeof(decltype(m_targets)::value_type) +
@@ -130,34 +135,53 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
     bool found = false;
     float tBest = ray.maxt;
 
-    if (!m_triangles.empty()) {
+    if (!m_packets.empty()) {
         const WatertightRay watertightRay(ray);
+        const WatertightRay4 packetRay(watertightRay);
         uint32_t bestSlot = 0;
         Point2f bestCoords;
         // Each primitive is tested against the ray's full segment, and the closest hit is
-        // kept (ties to the lower id); the BVH uses its distance to cull nodes.
-        auto intersectPrimitive = [&](uint32_t slot, float &tLimit) {
-            float t;
-            Point2f coords;
-            const TriangleVertices &v = m_triangles[slot];
-            if (v.isTriangle()) {
-                if (!intersectTriangle(watertightRay, v.p0, v.p1, v.p2, t, coords.x(), coords.y()))
-                    return false;
-            } else if (!m_shapes[m_ids[slot].shapeIndex]->rayIntersect(m_ids[slot].primIndex, ray,
-                                                                       t, coords)) {
-                return false;
+        // kept (ties to the lower id); the BVH uses its distance to cull nodes. The packet
+        // test only passes on the triangles the scalar test may hit before tBest.
+        auto intersectLeaf = [&](uint32_t first, uint32_t count, float &tLimit) {
+            bool hitInLeaf = false;
+            for (uint32_t base = first; base < first + count; base += TrianglePacket::kWidth) {
+                const TrianglePacket &packet = m_packets[base / TrianglePacket::kWidth];
+                const uint32_t lanes =
+                    std::min<uint32_t>(TrianglePacket::kWidth, first + count - base);
+                const int inLeaf = (1 << lanes) - 1;
+                const int triangles = packet.triangleLanes() & inLeaf;
+                int pending =
+                    (packetRay.candidates(packet, tBest) & triangles) | (inLeaf & ~triangles);
+                while (pending != 0) {
+                    const int lane = __builtin_ctz(static_cast<unsigned>(pending));
+                    pending &= pending - 1;
+                    const uint32_t slot = base + lane;
+                    float t;
+                    Point2f coords;
+                    if ((triangles >> lane) & 1) {
+                        if (!intersectTriangle(watertightRay, packet.vertex(lane, 0),
+                                               packet.vertex(lane, 1), packet.vertex(lane, 2), t,
+                                               coords.x(), coords.y()))
+                            continue;
+                    } else if (!m_shapes[m_ids[slot].shapeIndex]->rayIntersect(
+                                   m_ids[slot].primIndex, ray, t, coords)) {
+                        continue;
+                    }
+                    if (found && (t > tBest || (t == tBest && m_ids[bestSlot] < m_ids[slot])))
+                        continue;
+                    found = hitInLeaf = true;
+                    bestSlot = slot;
+                    tBest = tLimit = t;
+                    bestCoords = coords;
+                    if (anyHit)
+                        return true;
+                }
             }
-            if (found && (t > tBest || (t == tBest && m_ids[bestSlot] < m_ids[slot])))
-                return false;
-            found = true;
-            bestSlot = slot;
-            tBest = tLimit = t;
-            bestCoords = coords;
-            return true;
+            return hitInLeaf;
         };
         float tLimit = ray.maxt;
-        auto prefetch = [&](uint32_t slot) { __builtin_prefetch(&m_triangles[slot]); };
-        m_bvh.traverse(ray, tLimit, anyHit, intersectPrimitive, prefetch);
+        m_bvh.traverse(ray, tLimit, anyHit, intersectLeaf);
         if (found) {
             if (anyHit)
                 return true;
@@ -192,11 +216,39 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
             tBest = tLimit = inner.t;
             return true;
         };
+        auto intersectLeaf = [&](uint32_t first, uint32_t count, float &tLimit) {
+            bool hitInLeaf = false;
+            for (uint32_t slot = first; slot < first + count; ++slot)
+                if (intersectInstance(slot, tLimit)) {
+                    hitInLeaf = true;
+                    if (anyHit)
+                        return true;
+                }
+            return hitInLeaf;
+        };
         float tLimit = tBest;
-        auto prefetch = [&](uint32_t slot) { __builtin_prefetch(&m_instances[slot]); };
-        m_instanceBvh.traverse(ray, tLimit, anyHit, intersectInstance, prefetch);
+        m_instanceBvh.traverse(ray, tLimit, anyHit, intersectLeaf);
     }
     return found;
+}
+
+bool Accel::closestHit(const Ray3f &ray, float &t, const Shape *&shape, uint32_t &primIndex) const {
+    Hit hit;
+    if (!intersect(ray, false, hit, 0))
+        return false;
+    t = hit.t;
+    const PrimitiveId &id = hit.owner->m_ids[hit.slot];
+    shape = hit.owner->m_shapes[id.shapeIndex];
+    // The innermost placement's reported shape, as rayIntersect gives.
+    const Accel *accel = this;
+    for (int level = 0; level < hit.depth; ++level) {
+        const InstanceTarget *target = accel->m_targets[hit.path[level]->target];
+        if (level + 1 == hit.depth && target->reportedShape)
+            shape = target->reportedShape;
+        accel = target->accel;
+    }
+    primIndex = id.primIndex;
+    return true;
 }
 
 bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) const {

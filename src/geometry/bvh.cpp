@@ -38,9 +38,9 @@ constexpr uint32_t kParallelThreshold = 4096;
 
 class Builder {
 public:
-    Builder(std::vector<PrimitiveRef> &refs, float intersectionCost)
+    Builder(std::vector<PrimitiveRef> &refs, float intersectionCost, uint32_t blockSize)
         : m_refs(refs), m_nodes(std::max<size_t>(1, 2 * refs.size())),
-          m_intersectionCost(intersectionCost) {}
+          m_intersectionCost(intersectionCost), m_blockSize(blockSize) {}
 
     /// Builds the subtree over refs[first, first + count), whose bounds and centroid
     /// bounds are given; returns its node index.
@@ -49,7 +49,6 @@ public:
         const uint32_t nodeIndex = m_nextNode.fetch_add(1, std::memory_order_relaxed);
         BuildNode &node = m_nodes[nodeIndex];
         node.bounds = bounds;
-        updateMaxDepth(depth);
 
         Split split;
         const bool found = depth < BVH::kSahDepthLimit
@@ -105,7 +104,6 @@ public:
 
     const std::vector<BuildNode> &nodes() const { return m_nodes; }
     uint32_t nodeCount() const { return m_nextNode.load(); }
-    int maxDepth() const { return m_maxDepth.load(); }
 
 private:
     struct Split {
@@ -122,12 +120,6 @@ private:
         int axis = 0;
         extents.maxCoeff(&axis);
         return axis;
-    }
-
-    void updateMaxDepth(int depth) {
-        int seen = m_maxDepth.load(std::memory_order_relaxed);
-        while (depth > seen && !m_maxDepth.compare_exchange_weak(seen, depth))
-            ;
     }
 
     void makeLeaf(BuildNode &node, uint32_t first, uint32_t count) {
@@ -174,7 +166,7 @@ private:
             }
         }
 
-        const float leafCost = m_intersectionCost * static_cast<float>(count);
+        const float leafCost = m_intersectionCost * blocks(count);
         const float invArea = 1.0f / bounds.getSurfaceArea();
         best.cost = std::numeric_limits<float>::infinity();
         for (int axis = 0; axis < 3; ++axis) {
@@ -199,11 +191,10 @@ private:
                 accumulatedCount += bins[axis][b].count;
                 if (accumulatedCount == 0 || rightCount[b + 1] == 0)
                     continue;
-                const float cost =
-                    BVH::kTraversalCost +
-                    m_intersectionCost * invArea *
-                        (accumulated.getSurfaceArea() * static_cast<float>(accumulatedCount) +
-                         rightArea[b + 1] * static_cast<float>(rightCount[b + 1]));
+                const float cost = BVH::kTraversalCost +
+                                   m_intersectionCost * invArea *
+                                       (accumulated.getSurfaceArea() * blocks(accumulatedCount) +
+                                        rightArea[b + 1] * blocks(rightCount[b + 1]));
                 if (cost < best.cost) {
                     best.cost = cost;
                     best.axis = axis;
@@ -229,6 +220,12 @@ private:
         return true;
     }
 
+    /// Primitives are tested a block (SIMD packet) at a time: n of them cost ⌈n/block⌉
+    /// tests (the SAH with blocks, as in Embree's builders).
+    float blocks(uint32_t count) const {
+        return static_cast<float>((count + m_blockSize - 1) / m_blockSize);
+    }
+
     static int binIndex(float centroid, float origin, float scale) {
         const int b = static_cast<int>(scale * (centroid - origin));
         return std::clamp(b, 0, BVH::kBinCount - 1);
@@ -246,15 +243,17 @@ private:
     std::vector<PrimitiveRef> &m_refs;
     std::vector<BuildNode> m_nodes;
     std::atomic<uint32_t> m_nextNode{0};
-    std::atomic<int> m_maxDepth{0};
     float m_intersectionCost;
+    uint32_t m_blockSize;
 };
 
 } // namespace
 
-void BVH::build(const std::vector<BoundingBox3f> &bounds, float intersectionCost) {
+void BVH::build(const std::vector<BoundingBox3f> &bounds, float intersectionCost,
+                uint32_t leafAlignment) {
     m_nodes.clear();
     m_primitiveOrder.clear();
+    m_bounds = BoundingBox3f();
     m_statistics = BVHBuildStatistics();
 
     // Primitives with empty or non-finite bounds (NaN vertices, ...) cannot be placed.
@@ -271,63 +270,94 @@ void BVH::build(const std::vector<BoundingBox3f> &bounds, float intersectionCost
     m_statistics.primitives = refs.size();
     if (refs.empty())
         return;
+    // A leaf reference holds its first slot in 27 bits.
+    const size_t maxSlots = static_cast<size_t>(BVHNode::kSlotMask) + 1;
+    if (refs.size() * leafAlignment > maxSlots / 2)
+        throw NoriException("{} primitives are more than one BVH holds (at most {})", refs.size(),
+                            maxSlots / 2 / leafAlignment);
 
     BoundingBox3f rootBounds, rootCentroids;
     for (const PrimitiveRef &ref : refs) {
         rootBounds.expandBy(ref.bounds);
         rootCentroids.expandBy(ref.centroid);
     }
-    Builder builder(refs, intersectionCost);
+    m_bounds = rootBounds;
+    Builder builder(refs, intersectionCost, leafAlignment);
     builder.build(0, static_cast<uint32_t>(refs.size()), rootBounds, rootCentroids, 0);
-
-    // Flatten depth-first, sibling pairs together: the root at 0 (1 is padding), then
-    // each interior node's children as a pair, followed by the first child's subtree.
     const std::vector<BuildNode> &buildNodes = builder.nodes();
-    m_nodes.resize(2 * static_cast<size_t>(builder.nodeCount()) + 2);
-    size_t nextPair = 2;
+
+    // Collapse the binary tree into 4-wide nodes, depth-first: each wide node takes a
+    // binary node's two children, then keeps opening the interior child with the largest
+    // surface area (the one most rays enter) until it has four children. Children are
+    // stored largest first, the order any-hit traversal visits them in.
+    m_nodes.reserve(builder.nodeCount() / 2 + 1);
     const float rootArea = rootBounds.getSurfaceArea();
-    auto flatten = [&](auto &&self, uint32_t buildIndex, size_t flatIndex) -> void {
-        const BuildNode &node = buildNodes[buildIndex];
-        BVHNode &flat = m_nodes[flatIndex];
-        for (int i = 0; i < 3; ++i) {
-            flat.boundsMin[i] = node.bounds.min[i];
-            flat.boundsMax[i] = node.bounds.max[i];
-        }
-        const float relativeArea = rootArea > 0.0f ? node.bounds.getSurfaceArea() / rootArea : 1.0f;
-        if (node.leaf) {
-            flat.offset = node.first;
-            flat.count = static_cast<uint16_t>(node.count);
-            ++m_statistics.leaves;
-            m_statistics.sahCost += relativeArea * intersectionCost * node.count;
-            return;
-        }
-        const size_t pair = nextPair;
-        nextPair += 2;
-        flat.offset = static_cast<uint32_t>(pair);
-        flat.count = 0;
-        flat.axis = node.axis;
-        m_statistics.sahCost += relativeArea * kTraversalCost;
-        self(self, node.children[0], pair);
-        self(self, node.children[1], pair + 1);
+    auto relativeArea = [&](const BoundingBox3f &box) {
+        return rootArea > 0.0f ? box.getSurfaceArea() / rootArea : 1.0f;
     };
-    flatten(flatten, 0, 0);
-    // The array was sized for the worst case; give back the rest.
-    m_nodes.resize(nextPair);
+    auto leafReference = [&](const BuildNode &leaf) {
+        const size_t first =
+            (m_primitiveOrder.size() + leafAlignment - 1) / leafAlignment * leafAlignment;
+        m_primitiveOrder.resize(first, kNoPrimitive);
+        for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
+            m_primitiveOrder.push_back(refs[i].index);
+        ++m_statistics.leaves;
+        m_statistics.sahCost +=
+            relativeArea(leaf.bounds) * intersectionCost *
+            static_cast<float>((leaf.count + leafAlignment - 1) / leafAlignment);
+        return BVHNode::makeLeaf(static_cast<uint32_t>(first), leaf.count);
+    };
+    auto collapse = [&](auto &&self, uint32_t buildIndex, size_t depth) -> uint32_t {
+        m_statistics.maxDepth = std::max(m_statistics.maxDepth, depth);
+        std::array<uint32_t, BVHNode::kWidth> children{};
+        int childCount = 0;
+        const BuildNode &top = buildNodes[buildIndex];
+        if (top.leaf) { // a root that is a leaf
+            children[childCount++] = buildIndex;
+        } else {
+            children[childCount++] = top.children[0];
+            children[childCount++] = top.children[1];
+        }
+        auto area = [&](uint32_t index) { return buildNodes[index].bounds.getSurfaceArea(); };
+        while (childCount < BVHNode::kWidth) {
+            int largest = -1;
+            for (int i = 0; i < childCount; ++i)
+                if (!buildNodes[children[i]].leaf &&
+                    (largest < 0 || area(children[i]) > area(children[largest])))
+                    largest = i;
+            if (largest < 0)
+                break;
+            const BuildNode &opened = buildNodes[children[largest]];
+            children[largest] = opened.children[0];
+            children[childCount++] = opened.children[1];
+        }
+        std::stable_sort(children.begin(), children.begin() + childCount,
+                         [&](uint32_t a, uint32_t b) { return area(a) > area(b); });
+
+        const auto nodeIndex = static_cast<uint32_t>(m_nodes.size());
+        m_nodes.emplace_back();
+        m_statistics.sahCost += relativeArea(top.bounds) * kTraversalCost;
+        for (int i = 0; i < BVHNode::kWidth; ++i) {
+            BoundingBox3f box; // empty: min +inf, max -inf
+            uint32_t reference = BVHNode::makeLeaf(0, 0);
+            if (i < childCount) {
+                const BuildNode &child = buildNodes[children[i]];
+                box = child.bounds;
+                reference = child.leaf ? leafReference(child) : self(self, children[i], depth + 1);
+            }
+            BVHNode &node = m_nodes[nodeIndex]; // after the recursion, which may reallocate
+            for (int axis = 0; axis < 3; ++axis) {
+                node.bounds[axis][0][i] = box.min[axis];
+                node.bounds[axis][1][i] = box.max[axis];
+            }
+            node.child[i] = reference;
+        }
+        return nodeIndex;
+    };
+    collapse(collapse, 0, 1);
     m_nodes.shrink_to_fit();
-
-    m_primitiveOrder.resize(refs.size());
-    for (size_t i = 0; i < refs.size(); ++i)
-        m_primitiveOrder[i] = refs[i].index;
-    m_statistics.nodes = m_nodes.size() - 1; // without the padding slot
-    m_statistics.maxDepth = static_cast<size_t>(builder.maxDepth());
-}
-
-BoundingBox3f BVH::getBoundingBox() const {
-    if (m_nodes.empty())
-        return BoundingBox3f();
-    const BVHNode &root = m_nodes[0];
-    return BoundingBox3f(Point3f(root.boundsMin[0], root.boundsMin[1], root.boundsMin[2]),
-                         Point3f(root.boundsMax[0], root.boundsMax[1], root.boundsMax[2]));
+    m_primitiveOrder.shrink_to_fit();
+    m_statistics.nodes = m_nodes.size();
 }
 
 } // namespace nori
