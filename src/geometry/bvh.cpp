@@ -223,7 +223,8 @@ private:
     /// Primitives are tested a block (SIMD packet) at a time: n of them cost ⌈n/block⌉
     /// tests (the SAH with blocks, as in Embree's builders).
     float blocks(uint32_t count) const {
-        return static_cast<float>((count + m_blockSize - 1) / m_blockSize);
+        const uint32_t blockCount = (count + m_blockSize - 1) / m_blockSize; // ⌈count/block⌉
+        return static_cast<float>(blockCount);
     }
 
     static int binIndex(float centroid, float origin, float scale) {
@@ -302,9 +303,9 @@ void BVH::build(const std::vector<BoundingBox3f> &bounds, float intersectionCost
         for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
             m_primitiveOrder.push_back(refs[i].index);
         ++m_statistics.leaves;
+        const uint32_t blockCount = (leaf.count + leafAlignment - 1) / leafAlignment;
         m_statistics.sahCost +=
-            relativeArea(leaf.bounds) * intersectionCost *
-            static_cast<float>((leaf.count + leafAlignment - 1) / leafAlignment);
+            relativeArea(leaf.bounds) * intersectionCost * static_cast<float>(blockCount);
         return BVHNode::makeLeaf(static_cast<uint32_t>(first), leaf.count);
     };
     auto collapse = [&](auto &&self, uint32_t buildIndex, size_t depth) -> uint32_t {
