@@ -8,6 +8,7 @@
 // §7.1.2 "Object Instancing"). Instances nest, up to kMaxInstanceDepth levels.
 #pragma once
 
+#include <nori/arrayallocator.h>
 #include <nori/bvh.h>
 #include <nori/shape.h>
 #include <nori/transform.h>
@@ -103,7 +104,7 @@ private:
     // bounds incoherent rays): vertices for every test, four leaf slots to a packet
     // (other kinds of primitive leave their lane NaN), and per slot the ids, read for
     // the closest hit and for primitives that are not triangles.
-    std::vector<TrianglePacket> m_packets;
+    std::vector<TrianglePacket, LargeArrayAllocator<TrianglePacket>> m_packets;
     std::vector<PrimitiveId> m_ids;
     BVH m_bvh;
 

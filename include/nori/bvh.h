@@ -7,6 +7,7 @@
 // instances.
 #pragma once
 
+#include <nori/arrayallocator.h>
 #include <nori/bbox.h>
 #include <nori/rayerror.h>
 
@@ -99,23 +100,10 @@ public:
     bool traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectLeaf &&intersectLeaf) const;
 
 private:
-    /// std::allocator for over-aligned memory: the node array starts on a cache line.
-    template <typename T> struct CacheLineAllocator {
-        using value_type = T;
-        CacheLineAllocator() = default;
-        template <typename U> CacheLineAllocator(const CacheLineAllocator<U> &) {}
-        T *allocate(size_t n) {
-            return static_cast<T *>(::operator new(n * sizeof(T), std::align_val_t(64)));
-        }
-        void deallocate(T *p, size_t) { ::operator delete(p, std::align_val_t(64)); }
-        bool operator==(const CacheLineAllocator &) const { return true; }
-        bool operator!=(const CacheLineAllocator &) const { return false; }
-    };
-
     /// Each visit pushes at most kWidth − 1 children, once per level.
     static constexpr int kStackSize = (BVHNode::kWidth - 1) * kMaxDepth + 1;
 
-    std::vector<BVHNode, CacheLineAllocator<BVHNode>> m_nodes;
+    std::vector<BVHNode, LargeArrayAllocator<BVHNode>> m_nodes;
     std::vector<uint32_t> m_primitiveOrder;
     BoundingBox3f m_bounds;
     BVHBuildStatistics m_statistics;
