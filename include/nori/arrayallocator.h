@@ -16,19 +16,21 @@ namespace nori {
 
 template <typename T> struct LargeArrayAllocator {
     using value_type = T;
-    static constexpr uintptr_t kHugePage = uintptr_t(2) << 20;
+    static constexpr size_t kHugePage = size_t(2) << 20;
 
     LargeArrayAllocator() = default;
     template <typename U> LargeArrayAllocator(const LargeArrayAllocator<U> &) {}
 
     T *allocate(size_t n) {
         void *memory = ::operator new(n * sizeof(T), std::align_val_t(64));
-        const auto start = reinterpret_cast<uintptr_t>(memory);
-        const uintptr_t first = (start + kHugePage - 1) & ~(kHugePage - 1);
-        const uintptr_t last = (start + n * sizeof(T)) & ~(kHugePage - 1);
+        // The whole 2 MiB ranges: from the first aligned address to the last aligned end.
+        const size_t bytes = n * sizeof(T);
+        const size_t misalignment = reinterpret_cast<uintptr_t>(memory) % kHugePage;
+        const size_t lead = misalignment == 0 ? 0 : kHugePage - misalignment;
         // The advice is a hint: its failure changes nothing.
-        if (last > first)
-            madvise(reinterpret_cast<void *>(first), last - first, MADV_HUGEPAGE);
+        if (bytes > lead && bytes - lead >= kHugePage)
+            madvise(static_cast<char *>(memory) + lead, (bytes - lead) / kHugePage * kHugePage,
+                    MADV_HUGEPAGE);
         return static_cast<T *>(memory);
     }
     void deallocate(T *p, size_t) { ::operator delete(p, std::align_val_t(64)); }
