@@ -271,12 +271,6 @@ void BVH::build(const std::vector<BoundingBox3f> &bounds, float intersectionCost
     m_statistics.primitives = refs.size();
     if (refs.empty())
         return;
-    // A leaf reference holds its first slot in 27 bits.
-    const size_t maxSlots = static_cast<size_t>(BVHNode::kSlotMask) + 1;
-    if (refs.size() * leafAlignment > maxSlots / 2)
-        throw NoriException("{} primitives are more than one BVH holds (at most {})", refs.size(),
-                            maxSlots / 2 / leafAlignment);
-
     BoundingBox3f rootBounds, rootCentroids;
     for (const PrimitiveRef &ref : refs) {
         rootBounds.expandBy(ref.bounds);
@@ -299,6 +293,11 @@ void BVH::build(const std::vector<BoundingBox3f> &bounds, float intersectionCost
     auto leafReference = [&](const BuildNode &leaf) {
         const size_t first =
             (m_primitiveOrder.size() + leafAlignment - 1) / leafAlignment * leafAlignment;
+        // A leaf reference holds its first slot in 27 bits: 134M slots, padding included.
+        if (first + leaf.count > static_cast<size_t>(BVHNode::kSlotMask) + 1)
+            throw NoriException("{} primitives are more than one BVH holds: their leaves need "
+                                "more than {} slots",
+                                refs.size(), static_cast<size_t>(BVHNode::kSlotMask) + 1);
         m_primitiveOrder.resize(first, kNoPrimitive);
         for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
             m_primitiveOrder.push_back(refs[i].index);
