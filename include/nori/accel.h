@@ -93,6 +93,10 @@ private:
     /// The closest hit (any hit with anyHit) on the ray's segment, in this Accel's
     /// space; `depth` is the number of instances the ray has entered.
     bool intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const;
+    /// Follows the instances a hit lies in: returns the shape the innermost placement
+    /// reports (nullptr: the hit shape itself) and, if asked, their composed map from
+    /// this Accel's space to the innermost one.
+    const Shape *followInstances(const Hit &hit, AffineMap *toLocal) const;
     /// The ray carried into an instance's space, its segment starting past the
     /// origin's rounding error so that a spawned ray cannot re-hit its own surface
     /// there (pbrt-v4 §6.8.6, Transform::ApplyInverse).

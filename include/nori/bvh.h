@@ -13,6 +13,7 @@
 
 #include <immintrin.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace nori {
@@ -164,25 +165,21 @@ bool BVH::traverse(const Ray3f &ray, float &tMax, bool anyHit,
                 }
                 // Several children: push them so that the one to visit next is on top.
                 // Closest hit: sorted by entry distance, farthest pushed first (insertion
-                // sort of at most four); any hit: in stored order.
+                // sort of at most four); any hit: in stored order, so reversed on the stack.
                 const int base = stackSize;
                 stack[stackSize++] = Entry{node.child[first], distance[first]};
                 while (entered != 0) {
                     const int i = __builtin_ctz(entered);
                     entered &= entered - 1;
-                    Entry entry{node.child[i], distance[i]};
+                    const Entry entry{node.child[i], distance[i]};
                     int position = stackSize++;
-                    if (anyHit) {
-                        // Stored order: move the earlier children up, this one below.
-                        for (; position > base; --position)
-                            stack[position] = stack[position - 1];
-                    } else {
-                        for (; position > base && stack[position - 1].tEntry < entry.tEntry;
-                             --position)
-                            stack[position] = stack[position - 1];
-                    }
+                    for (; !anyHit && position > base && stack[position - 1].tEntry < entry.tEntry;
+                         --position)
+                        stack[position] = stack[position - 1];
                     stack[position] = entry;
                 }
+                if (anyHit)
+                    std::reverse(stack + base, stack + stackSize);
                 // The children left on the stack are needed later: bring them into the
                 // cache now, overlapping the memory latency with the nearest subtree.
                 for (int i = base; i + 1 < stackSize; ++i)

@@ -238,17 +238,24 @@ bool Accel::closestHit(const Ray3f &ray, float &t, const Shape *&shape, uint32_t
         return false;
     t = hit.t;
     const PrimitiveId &id = hit.owner->m_ids[hit.slot];
-    shape = hit.owner->m_shapes[id.shapeIndex];
-    // The innermost placement's reported shape, as rayIntersect gives.
-    const Accel *accel = this;
-    for (int level = 0; level < hit.depth; ++level) {
-        const InstanceTarget *target = accel->m_targets[hit.path[level]->target];
-        if (level + 1 == hit.depth && target->reportedShape)
-            shape = target->reportedShape;
-        accel = target->accel;
-    }
+    const Shape *reportedShape = followInstances(hit, nullptr);
+    shape = reportedShape ? reportedShape : hit.owner->m_shapes[id.shapeIndex];
     primIndex = id.primIndex;
     return true;
+}
+
+const Shape *Accel::followInstances(const Hit &hit, AffineMap *toLocal) const {
+    const Shape *reportedShape = nullptr;
+    const Accel *accel = this;
+    for (int level = 0; level < hit.depth; ++level) {
+        const InstanceRecord &instance = *hit.path[level];
+        if (toLocal)
+            *toLocal = instance.toLocal * *toLocal;
+        const InstanceTarget *target = accel->m_targets[instance.target];
+        reportedShape = target->reportedShape;
+        accel = target->accel;
+    }
+    return reportedShape;
 }
 
 bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) const {
@@ -258,18 +265,8 @@ bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) co
     if (shadowRay)
         return true;
 
-    // Follow the instances the hit lies in: their composed map to the innermost space,
-    // and the shape the innermost placement reports.
     AffineMap toLocal;
-    const Shape *reportedShape = nullptr;
-    const Accel *accel = this;
-    for (int level = 0; level < hit.depth; ++level) {
-        const InstanceRecord &instance = *hit.path[level];
-        toLocal = instance.toLocal * toLocal;
-        const InstanceTarget *target = accel->m_targets[instance.target];
-        reportedShape = target->reportedShape;
-        accel = target->accel;
-    }
+    const Shape *reportedShape = followInstances(hit, &toLocal);
 
     its.t = hit.t;
     const PrimitiveId &id = hit.owner->m_ids[hit.slot];
