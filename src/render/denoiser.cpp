@@ -5,11 +5,11 @@
 // with the variance-normalised distance of Rousselle et al. 2012 ("Adaptive rendering
 // with non-local means filtering", eq. 4). Each bandwidth gives two candidates, the
 // first-order fit and the plain weighted mean (which cannot overshoot where the features
-// do not explain the colour, as on a glossy highlight); each pixel keeps the candidate of
-// least relative error as estimated by SURE and smoothed (Rousselle et al. 2012, sec. 4;
-// Li et al. 2012). The colour is divided by the albedo first and multiplied back after,
-// so that texture detail comes from the noise-free albedo (demodulation, as in Zimmer
-// et al. 2015 and SVGF).
+// do not explain the colour, as on a glossy highlight); each pixel keeps the candidate
+// that most pixels around it find of least error as estimated by SURE (Rousselle et al.
+// 2012, sec. 4; Li et al. 2012). The colour is divided by the albedo first and multiplied
+// back after, so that texture detail comes from the noise-free albedo (demodulation, as
+// in Zimmer et al. 2015 and SVGF).
 #include <nori/denoiser.h>
 
 #include <tbb/parallel_for.h>
@@ -40,13 +40,17 @@ constexpr float kDistanceEpsilon = 1e-10f;
 /// The variance estimate of one pixel from two half-buffers has one degree of freedom
 /// per channel; its mean over a (2·2 + 1)² box is steadier by a factor five.
 constexpr int kVarianceRadius = 2;
-/// SURE of a single pixel is too noisy to choose by; its mean over a 7×7 box is not.
+/// That mean is taken of the relative variance σ²/(C̄² + ε), C̄ the colour's mean over a
+/// 3×3 box, and scaled back: a plain box of σ² would spread a highlight's variance onto
+/// the dark pixels beside it, whose variance-normalised distances to the highlight would
+/// then be small enough to blend it in.
+constexpr int kVarianceScaleRadius = 1;
+constexpr float kVarianceScaleEpsilon = 0.01f;
+/// SURE of a single pixel is too noisy to choose by; the votes of a 7×7 box are not.
 constexpr int kSureRadius = 3;
 /// The colour is divided by (albedo + this): black albedo (background, emitters) keeps
 /// a finite scale, and dark texels do not amplify noise beyond ten times.
 constexpr float kDemodulationOffset = 0.1f;
-/// ε of the relative error, (F − C)² / (F² + ε), as in the relMSE metric.
-constexpr float kRelativeEpsilon = 0.01f;
 
 /// What the filter reads, as planes of floats; invalid pixels (non-finite or negative
 /// colour) are never anyone's neighbour.
@@ -110,8 +114,11 @@ Inputs readInputs(const LayeredImage &image) {
         inputs.modulation[k] = inputs.features[k] + kDemodulationOffset;
         inputs.colour[k] = channelPlane(beauty, k).max(0.0f) / inputs.modulation[k];
         // Var(C / m) = Var(C) / m², the albedo being (nearly) noise-free.
-        inputs.variance[k] = boxFilter(
-            channelPlane(variance, k).max(0.0f) / inputs.modulation[k].square(), kVarianceRadius);
+        const Plane demodulatedVariance =
+            channelPlane(variance, k).max(0.0f) / inputs.modulation[k].square();
+        const Plane scale =
+            boxFilter(inputs.colour[k], kVarianceScaleRadius).square() + kVarianceScaleEpsilon;
+        inputs.variance[k] = boxFilter(demodulatedVariance / scale, kVarianceRadius) * scale;
     }
     // Depth in units of the farthest depth seen, so that its slope's ridge is
     // scale-free like the other features'.
@@ -291,21 +298,7 @@ private:
     std::vector<float> m_inverseBandwidthSquared;
 };
 
-} // namespace
-
-const std::vector<AOV> &denoiserAOVs() {
-    static const std::vector<AOV> aovs{AOV::Albedo, AOV::Normal, AOV::Depth, AOV::Variance};
-    return aovs;
-}
-
-Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
-    if (settings.bandwidths.empty() || settings.searchRadius < 0 || settings.patchRadius < 0 ||
-        !(settings.ridge >= 0.0f))
-        throw NoriException("denoise: needs a bandwidth, non-negative radii and ridge");
-    for (float k : settings.bandwidths)
-        if (!(k > 0.0f) || !std::isfinite(k))
-            throw NoriException("denoise: bandwidths must be positive, got {}", k);
-    const Inputs inputs = readInputs(image);
+std::array<Plane, 3> filterPass(const Inputs &inputs, const DenoiserSettings &settings) {
     const int width = inputs.width, height = inputs.height;
 
     Candidates candidates;
@@ -335,29 +328,59 @@ Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
         });
     });
 
-    // The relative error SURE / (F² + ε), F the brightness of the smoothest first-order
-    // candidate, so that bright regions do not outvote dark ones in the smoothing box.
-    const auto &smoothest = candidates.filtered[2 * (settings.bandwidths.size() - 1)];
-    Plane brightness = Plane::Zero(height, width);
-    for (int k = 0; k < 3; ++k)
-        brightness += smoothest[k] * inputs.modulation[k] / 3.0f;
-    const Plane relativeScale = 1.0f / (brightness.square() + kRelativeEpsilon);
-    std::vector<Plane> smoothedError;
-    for (const Plane &sure : candidates.sure)
-        smoothedError.push_back(boxFilter(sure * relativeScale, kSureRadius));
-
-    Bitmap result(image.size());
+    // Each pixel votes for the candidate of least SURE at it, and takes the candidate
+    // with most votes in a (2·3 + 1)² box: SURE of one pixel is too noisy to choose by,
+    // and a vote, unlike the box's mean SURE, cannot be swamped by a few neighbours of
+    // huge variance (an emitter's edge beside a black background).
+    const size_t count = candidates.sure.size();
+    std::vector<Plane> votes(count, Plane::Zero(height, width));
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             size_t best = 0;
-            for (size_t c = 1; c < smoothedError.size(); ++c)
-                if (smoothedError[c](y, x) < smoothedError[best](y, x))
+            for (size_t c = 1; c < count; ++c)
+                if (candidates.sure[c](y, x) < candidates.sure[best](y, x))
                     best = c;
+            votes[best](y, x) = 1.0f;
+        }
+    for (Plane &vote : votes)
+        vote = boxFilter(vote, kSureRadius);
+
+    std::array<Plane, 3> result{Plane(height, width), Plane(height, width), Plane(height, width)};
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            size_t best = 0;
+            for (size_t c = 1; c < count; ++c)
+                if (votes[c](y, x) > votes[best](y, x))
+                    best = c;
+            for (int k = 0; k < 3; ++k)
+                result[k](y, x) = candidates.filtered[best][k](y, x);
+        }
+    return result;
+}
+
+} // namespace
+
+const std::vector<AOV> &denoiserAOVs() {
+    static const std::vector<AOV> aovs{AOV::Albedo, AOV::Normal, AOV::Depth, AOV::Variance};
+    return aovs;
+}
+
+Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
+    if (settings.bandwidths.empty() || settings.searchRadius < 0 || settings.patchRadius < 0 ||
+        !(settings.ridge >= 0.0f))
+        throw NoriException("denoise: needs a bandwidth, non-negative radii and ridge");
+    for (float k : settings.bandwidths)
+        if (!(k > 0.0f) || !std::isfinite(k))
+            throw NoriException("denoise: bandwidths must be positive, got {}", k);
+    const Inputs inputs = readInputs(image);
+    const std::array<Plane, 3> estimate = filterPass(inputs, settings);
+    Bitmap result(image.size());
+    for (int y = 0; y < inputs.height; ++y)
+        for (int x = 0; x < inputs.width; ++x)
             for (int k = 0; k < 3; ++k) {
-                const float value = candidates.filtered[best][k](y, x) * inputs.modulation[k](y, x);
+                const float value = estimate[k](y, x) * inputs.modulation[k](y, x);
                 result(y, x)[k] = std::isfinite(value) ? std::max(0.0f, value) : 0.0f;
             }
-        }
     return result;
 }
 
