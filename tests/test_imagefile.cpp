@@ -195,6 +195,19 @@ TEST_CASE("Hostile image files end in an error naming the file", "[imagefile]") 
         // fails later only because the insertion moved the chunks its offsets point to).
         CHECK_THAT(errorOf([&] { decodeImageFile(withType("scanlineimage"), "typed.exr"); }),
                    !Contains("its type is"));
+        // tinyexr skips a 'type' whose value starts with NUL and keeps the last other one:
+        // an empty 'type' first must not hide a foreign one after it (found by the fuzzer).
+        auto twice = [&](const std::string &earlier, const std::string &later) {
+            const std::string attributeOfLater = withType(later).substr(8, 12 + 4 + later.size());
+            return withType(earlier).substr(0, 8 + 12 + 4 + earlier.size()) + attributeOfLater +
+                   bytes.substr(8);
+        };
+        CHECK_THAT(
+            errorOf([&] { decodeImageFile(twice(std::string(3, '\0'), "3-6"), "typed.exr"); }),
+            Contains("EXR image 'typed.exr': its type is '3-6'"));
+        CHECK_THAT(
+            errorOf([&] { decodeImageFile(twice("scanlineimage", "deeptile"), "typed.exr"); }),
+            Contains("its type is 'deeptile'"));
     }
     SECTION("truncations of every format") {
         const std::vector<std::pair<std::string, std::string>> files = {

@@ -447,31 +447,34 @@ ImageFile decodePfm(const std::string &bytes, const std::string &name, std::size
     return image;
 }
 
-/// The value of the string attribute `type` of a single-part EXR header, or "" when it has
-/// none (or the header is malformed, which tinyexr reports). tinyexr asserts, and so aborts,
-/// on a `type` that is not one of its four names or disagrees with the tiled flag.
+/// The value of the string attribute `type` of a single-part EXR header as tinyexr reads
+/// it: the last non-empty one, up to its first NUL; "" when it has none (or the header is
+/// malformed, which tinyexr reports). tinyexr asserts, and so aborts, on a `type` that is
+/// not one of its four names or disagrees with the tiled flag.
 std::string exrTypeAttribute(const std::string &bytes) {
     std::size_t offset = 8; // magic number and version
+    std::string type;
     while (offset < bytes.size() && bytes[offset] != '\0') {
         const std::size_t nameEnd = bytes.find('\0', offset);
         if (nameEnd == std::string::npos)
-            return "";
+            return type;
         const std::size_t typeEnd = bytes.find('\0', nameEnd + 1);
         if (typeEnd == std::string::npos || bytes.size() - typeEnd - 1 < 4)
-            return "";
+            return type;
         uint32_t size = 0;
         for (int k = 3; k >= 0; --k) // little-endian
             size = (size << 8) | static_cast<unsigned char>(bytes[typeEnd + 1 + k]);
         const std::size_t dataStart = typeEnd + 5;
         if (size > bytes.size() - dataStart)
-            return "";
+            return type;
         if (bytes.compare(offset, nameEnd - offset, "type") == 0) {
             const std::string value = bytes.substr(dataStart, size);
-            return value.substr(0, value.find('\0'));
+            if (!value.empty() && value[0] != '\0')
+                type = value.substr(0, value.find('\0'));
         }
         offset = dataStart + size;
     }
-    return "";
+    return type;
 }
 
 } // namespace
