@@ -183,10 +183,12 @@ TEST_CASE("Hostile image files end in an error naming the file", "[imagefile]") 
         const std::string bytes =
             exrBytes(floatPattern(4, 4), 4, 4, (dir.path() / "typed.exr").string());
         // A string attribute inserted first in the header: name, type, size, value.
-        auto withType = [&](const std::string &value) {
+        auto typeAttribute = [](const std::string &value) {
             const char size[4] = {static_cast<char>(value.size()), 0, 0, 0};
-            return bytes.substr(0, 8) + std::string("type\0string\0", 12) + std::string(size, 4) +
-                   value + bytes.substr(8);
+            return std::string("type\0string\0", 12) + std::string(size, 4) + value;
+        };
+        auto withType = [&](const std::string &value) {
+            return bytes.substr(0, 8) + typeAttribute(value) + bytes.substr(8);
         };
         for (const std::string value : {"deeptile", "3-6", "tiledimage"})
             CHECK_THAT(errorOf([&] { decodeImageFile(withType(value), "typed.exr"); }),
@@ -198,8 +200,7 @@ TEST_CASE("Hostile image files end in an error naming the file", "[imagefile]") 
         // tinyexr skips a 'type' whose value starts with NUL and keeps the last other one:
         // an empty 'type' first must not hide a foreign one after it (found by the fuzzer).
         auto twice = [&](const std::string &earlier, const std::string &later) {
-            const std::string attributeOfLater = withType(later).substr(8, 12 + 4 + later.size());
-            return withType(earlier).substr(0, 8 + 12 + 4 + earlier.size()) + attributeOfLater +
+            return bytes.substr(0, 8) + typeAttribute(earlier) + typeAttribute(later) +
                    bytes.substr(8);
         };
         CHECK_THAT(

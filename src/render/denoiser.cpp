@@ -47,7 +47,7 @@ constexpr int kVarianceRadius = 2;
 constexpr int kVarianceScaleRadius = 1;
 constexpr float kVarianceScaleEpsilon = 0.01f;
 /// SURE of a single pixel is too noisy to choose by; the votes of a 7×7 box are not.
-constexpr int kSureRadius = 3;
+constexpr int kVoteRadius = 3;
 /// The colour is divided by (albedo + this): black albedo (background, emitters) keeps
 /// a finite scale, and dark texels do not amplify noise beyond ten times.
 constexpr float kDemodulationOffset = 0.1f;
@@ -298,7 +298,21 @@ private:
     std::vector<float> m_inverseBandwidthSquared;
 };
 
-std::array<Plane, 3> filterPass(const Inputs &inputs, const DenoiserSettings &settings) {
+} // namespace
+
+const std::vector<AOV> &denoiserAOVs() {
+    static const std::vector<AOV> aovs{AOV::Albedo, AOV::Normal, AOV::Depth, AOV::Variance};
+    return aovs;
+}
+
+Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
+    if (settings.bandwidths.empty() || settings.searchRadius < 0 || settings.patchRadius < 0 ||
+        !(settings.ridge >= 0.0f))
+        throw NoriException("denoise: needs a bandwidth, non-negative radii and ridge");
+    for (float k : settings.bandwidths)
+        if (!(k > 0.0f) || !std::isfinite(k))
+            throw NoriException("denoise: bandwidths must be positive, got {}", k);
+    const Inputs inputs = readInputs(image);
     const int width = inputs.width, height = inputs.height;
 
     Candidates candidates;
@@ -343,44 +357,20 @@ std::array<Plane, 3> filterPass(const Inputs &inputs, const DenoiserSettings &se
             votes[best](y, x) = 1.0f;
         }
     for (Plane &vote : votes)
-        vote = boxFilter(vote, kSureRadius);
+        vote = boxFilter(vote, kVoteRadius);
 
-    std::array<Plane, 3> result{Plane(height, width), Plane(height, width), Plane(height, width)};
+    Bitmap result(image.size());
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             size_t best = 0;
             for (size_t c = 1; c < count; ++c)
                 if (votes[c](y, x) > votes[best](y, x))
                     best = c;
-            for (int k = 0; k < 3; ++k)
-                result[k](y, x) = candidates.filtered[best][k](y, x);
-        }
-    return result;
-}
-
-} // namespace
-
-const std::vector<AOV> &denoiserAOVs() {
-    static const std::vector<AOV> aovs{AOV::Albedo, AOV::Normal, AOV::Depth, AOV::Variance};
-    return aovs;
-}
-
-Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
-    if (settings.bandwidths.empty() || settings.searchRadius < 0 || settings.patchRadius < 0 ||
-        !(settings.ridge >= 0.0f))
-        throw NoriException("denoise: needs a bandwidth, non-negative radii and ridge");
-    for (float k : settings.bandwidths)
-        if (!(k > 0.0f) || !std::isfinite(k))
-            throw NoriException("denoise: bandwidths must be positive, got {}", k);
-    const Inputs inputs = readInputs(image);
-    const std::array<Plane, 3> estimate = filterPass(inputs, settings);
-    Bitmap result(image.size());
-    for (int y = 0; y < inputs.height; ++y)
-        for (int x = 0; x < inputs.width; ++x)
             for (int k = 0; k < 3; ++k) {
-                const float value = estimate[k](y, x) * inputs.modulation[k](y, x);
+                const float value = candidates.filtered[best][k](y, x) * inputs.modulation[k](y, x);
                 result(y, x)[k] = std::isfinite(value) ? std::max(0.0f, value) : 0.0f;
             }
+        }
     return result;
 }
 
