@@ -110,13 +110,13 @@ private:
     // the closest hit and for primitives that are not triangles.
     std::vector<TrianglePacket, LargeArrayAllocator<TrianglePacket>> m_packets;
     std::vector<PrimitiveId> m_ids;
-    BVH m_bvh;
+    BVH<8> m_bvh;
 
     std::vector<const InstanceTarget *> m_targets;
     std::unordered_map<const InstanceTarget *, uint32_t> m_targetIndex; ///< until build()
     std::vector<InstanceRecord> m_instances;
     std::vector<BoundingBox3f> m_instanceBounds; ///< until build()
-    BVH m_instanceBvh;
+    BVH<4> m_instanceBvh;
     int m_instanceDepth = 0;
 
     BoundingBox3f m_bbox;

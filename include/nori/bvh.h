@@ -1,7 +1,8 @@
 // A bounding volume hierarchy over abstract primitives (given by their bounding boxes):
 // a binary tree built by binned SAH in parallel (Wald, "On fast Construction of SAH-based
-// Bounding Volume Hierarchies", 2007), collapsed into 4-wide nodes whose four boxes one
-// ray tests at once with SSE (Wald, Benthin and Boulos, "Getting Rid of Packets", 2008),
+// Bounding Volume Hierarchies", 2007), collapsed into wide nodes (8 children for
+// triangles, 4 for instances) whose boxes one ray tests at once with AVX or SSE (Wald,
+// Benthin and Boulos, "Getting Rid of Packets", 2008),
 // traversed nearest child first with an explicit stack (PBR 4th ed. §7.3). What a
 // primitive is stays with the caller, so the same BVH serves triangles, spheres and
 // instances.
@@ -18,16 +19,13 @@
 
 namespace nori {
 
-/// A node of four children, 128 bytes on two cache lines. Its children's boxes are
-/// stored here as structures of arrays, so that one SSE instruction tests a plane of all
-/// four. A child is a reference: an interior node's index, or a leaf (kLeafFlag) with
-/// its primitive count and the first of its primitive slots. Unused slots are empty
-/// leaves with empty boxes (min +inf, max -inf), which no ray enters.
-struct alignas(64) BVHNode {
-    static constexpr int kWidth = 4;
+/// A child reference of a wide node: an interior node's index, or a leaf (kLeafFlag)
+/// with its primitive count and the first of its primitive slots.
+struct BVHReference {
     static constexpr uint32_t kLeafFlag = 0x80000000u;
     static constexpr int kCountShift = 27; ///< bits 27-30 of a leaf: primitive count
     static constexpr uint32_t kSlotMask = (1u << kCountShift) - 1;
+    static constexpr uint32_t kMaxLeafCount = (kLeafFlag >> kCountShift) - 1;
 
     static bool isLeaf(uint32_t child) { return (child & kLeafFlag) != 0; }
     static uint32_t leafCount(uint32_t child) { return (child & ~kLeafFlag) >> kCountShift; }
@@ -35,29 +33,68 @@ struct alignas(64) BVHNode {
     static uint32_t makeLeaf(uint32_t first, uint32_t count) {
         return kLeafFlag | (count << kCountShift) | first;
     }
+};
+
+/// A node of Width children, 32·Width bytes on whole cache lines (8 children: four
+/// lines). Its children's boxes are stored as structures of arrays, so that one SIMD
+/// instruction tests a plane of four or eight children. Unused slots are empty leaves
+/// with empty boxes (min +inf, max -inf), which no ray enters.
+template <int Width> struct alignas(64) BVHNode {
+    static constexpr int kWidth = Width;
 
     /// bounds[axis][0][i] and bounds[axis][1][i]: child i's minimum and maximum on axis.
     float bounds[3][2][kWidth];
-    uint32_t child[kWidth];
-    uint8_t padding[16];
+    uint32_t child[kWidth]; ///< BVHReference
+    uint8_t padding[4 * kWidth];
 
     BoundingBox3f childBounds(int i) const {
         return BoundingBox3f(Point3f(bounds[0][0][i], bounds[1][0][i], bounds[2][0][i]),
                              Point3f(bounds[0][1][i], bounds[1][1][i], bounds[2][1][i]));
     }
 };
-static_assert(sizeof(BVHNode) == 128, "BVH nodes must stay two cache lines");
+static_assert(sizeof(BVHNode<4>) == 128 && sizeof(BVHNode<8>) == 256,
+              "BVH nodes must fill whole cache lines");
+
+/// __m256 or __m128: a specialisation, as std::conditional would drop the vector types'
+/// alignment attribute.
+template <bool Avx> struct SimdLanes { using Type = __m128; };
+template <> struct SimdLanes<true> { using Type = __m256; };
+
+/// A ray's slab test against the boxes of a node (PBR 4th ed. §6.1.2): SSE over four
+/// children at a time, or AVX over eight when the build targets it.
+template <int Width> class NodeRay {
+public:
+    explicit NodeRay(const Ray3f &ray);
+
+    /// Bit i set: the segment [ray.mint, tMax] enters child i's box, at distance[i].
+    unsigned intersect(const BVHNode<Width> &node, float tMax, float *distance) const;
+
+private:
+#ifdef __AVX__
+    static constexpr bool kAvx = Width % 8 == 0;
+#else
+    static constexpr bool kAvx = false;
+#endif
+    using Lanes = typename SimdLanes<kAvx>::Type;
+    static constexpr int kLanes = kAvx ? 8 : 4;
+    static_assert(Width % kLanes == 0, "a node's width is a multiple of the SIMD width");
+    static Lanes broadcast(float value);
+    Lanes m_invDir[3], m_originScaled[3], m_farScale, m_segmentStart;
+    int m_nearSide[3];
+};
 
 struct BVHBuildStatistics {
     size_t primitives = 0;        ///< primitives in the tree
     size_t skippedPrimitives = 0; ///< left out for empty or non-finite bounds
-    size_t nodes = 0;             ///< 4-wide nodes
+    size_t nodes = 0;             ///< wide nodes
     size_t leaves = 0;
-    size_t maxDepth = 0;  ///< of the 4-wide tree
+    size_t maxDepth = 0;  ///< of the wide tree
     float sahCost = 0.0f; ///< expected cost of a random ray, in units of one box test
 };
 
-class BVH {
+/// What BVHs of every width share: the build's parameters, the leaf slots' order, the
+/// bounds and the statistics.
+class BVHBase {
 public:
     /// SAH costs of a primitive test and of a traversal step. A step costs more than its
     /// arithmetic: it is usually a cache miss, so nori-bench's incoherent rays ran fastest
@@ -66,12 +103,35 @@ public:
     static constexpr float kTraversalCost = 4.0f;
     static constexpr int kBinCount = 16;
     static constexpr int kMaxLeafSize = 8;
+    static_assert(kMaxLeafSize <= static_cast<int>(BVHReference::kMaxLeafCount),
+                  "a leaf reference holds its count in four bits");
     /// Below this depth the build stops looking for SAH splits and halves the primitive
     /// list, so no binary tree (and so no wide tree) is deeper than kMaxDepth.
     static constexpr int kSahDepthLimit = 64;
     static constexpr int kMaxDepth = 128;
     /// A padding entry of primitiveOrder().
     static constexpr uint32_t kNoPrimitive = 0xFFFFFFFFu;
+
+    /// Leaf slot -> index of the primitive passed to build(), or kNoPrimitive.
+    const std::vector<uint32_t> &primitiveOrder() const { return m_primitiveOrder; }
+    /// Hands over primitiveOrder() once the caller has put its data in leaf order; the
+    /// tree no longer needs it.
+    std::vector<uint32_t> takePrimitiveOrder() { return std::move(m_primitiveOrder); }
+    const BVHBuildStatistics &statistics() const { return m_statistics; }
+    const BoundingBox3f &getBoundingBox() const { return m_bounds; }
+
+protected:
+    std::vector<uint32_t> m_primitiveOrder;
+    BoundingBox3f m_bounds;
+    BVHBuildStatistics m_statistics;
+};
+
+/// The tree itself, of nodes with Width children: 8 for triangles (fewer levels, so
+/// fewer dependent cache misses per ray), 4 for instances (whose leaves hold one
+/// instance each, so that wider nodes would mostly hold empty slots).
+template <int Width> class BVH : public BVHBase {
+public:
+    using Node = BVHNode<Width>;
 
     /// Builds over primitives with the given bounds (primitive i has bounds[i]).
     /// Primitives with empty or non-finite bounds are left out and counted.
@@ -82,55 +142,34 @@ public:
     void build(const std::vector<BoundingBox3f> &bounds, float intersectionCost = kIntersectionCost,
                uint32_t leafAlignment = 1);
 
-    /// Leaf slot -> index of the primitive passed to build(), or kNoPrimitive.
-    const std::vector<uint32_t> &primitiveOrder() const { return m_primitiveOrder; }
-    /// Hands over primitiveOrder() once the caller has put its data in leaf order; the
-    /// tree no longer needs it.
-    std::vector<uint32_t> takePrimitiveOrder() { return std::move(m_primitiveOrder); }
-    const BVHNode &node(size_t index) const { return m_nodes[index]; }
+    const Node &node(size_t index) const { return m_nodes[index]; }
     size_t nodeCount() const { return m_nodes.size(); }
-    const BVHBuildStatistics &statistics() const { return m_statistics; }
-    const BoundingBox3f &getBoundingBox() const { return m_bounds; }
 
     /// Visits the leaves the ray's segment [ray.mint, tMax] reaches. Closest-hit
     /// traversal takes a node's children nearest first; with anyHit it takes them in
     /// stored order, largest box first (the likeliest to hold an occluder), and stops at
     /// the first hit. `intersectLeaf(first, count, tMax)` tests the leaf's primitives in
     /// slots [first, first + count); on a hit it lowers tMax and returns true.
-    template <typename IntersectLeaf>
-    bool traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectLeaf &&intersectLeaf) const;
+    /// `prefetchLeaf(first, count)` is called for a leaf put on the stack, so that the
+    /// caller can bring its primitives into the cache while nearer children are tested.
+    template <typename IntersectLeaf, typename PrefetchLeaf>
+    bool traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectLeaf &&intersectLeaf,
+                  PrefetchLeaf &&prefetchLeaf) const;
 
 private:
-    /// Each visit pushes at most kWidth − 1 children, once per level.
-    static constexpr int kStackSize = (BVHNode::kWidth - 1) * kMaxDepth + 1;
+    /// Each visit pushes at most Width − 1 children, once per level.
+    static constexpr int kStackSize = (Width - 1) * kMaxDepth + 1;
 
-    std::vector<BVHNode, LargeArrayAllocator<BVHNode>> m_nodes;
-    std::vector<uint32_t> m_primitiveOrder;
-    BoundingBox3f m_bounds;
-    BVHBuildStatistics m_statistics;
+    std::vector<Node, LargeArrayAllocator<Node>> m_nodes;
 };
 
-template <typename IntersectLeaf>
-bool BVH::traverse(const Ray3f &ray, float &tMax, bool anyHit,
-                   IntersectLeaf &&intersectLeaf) const {
+template <int Width>
+template <typename IntersectLeaf, typename PrefetchLeaf>
+bool BVH<Width>::traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectLeaf &&intersectLeaf,
+                          PrefetchLeaf &&prefetchLeaf) const {
     if (m_nodes.empty())
         return false;
-    // Per ray: for each axis, which of a node's two planes is entered first, and o/d, so
-    // that the slab distance (plane − o)/d is one multiply and one subtraction.
-    __m128 invDir[3], originScaled[3];
-    int nearSide[3];
-    for (int axis = 0; axis < 3; ++axis) {
-        invDir[axis] = _mm_set1_ps(ray.dRcp[axis]);
-        originScaled[axis] = _mm_set1_ps(ray.o[axis] * ray.dRcp[axis]);
-        nearSide[axis] = ray.dRcp[axis] < 0.0f ? 1 : 0;
-    }
-    // Widening the far distance by 2γ₃ keeps the slab test conservative under rounding
-    // (PBR 4th ed. §6.8.2). A zero direction component gives ±inf distances (NaN when the
-    // origin lies on the plane): _mm_max_ps/_mm_min_ps return their second operand for a
-    // NaN, so such a plane leaves the running interval as it was.
-    const __m128 farScale = _mm_set1_ps(1.0f + 2.0f * gammaBound(3));
-    const __m128 segmentStart = _mm_set1_ps(ray.mint);
-
+    const NodeRay<Width> nodeRay(ray);
     struct Entry {
         uint32_t child;
         float tEntry;
@@ -140,23 +179,11 @@ bool BVH::traverse(const Ray3f &ray, float &tMax, bool anyHit,
     uint32_t current = 0; // the root node
     bool hit = false;
     while (true) {
-        if (!BVHNode::isLeaf(current)) {
-            const BVHNode &node = m_nodes[current];
-            __m128 tNear = segmentStart, tFar = _mm_set1_ps(tMax);
-            for (int axis = 0; axis < 3; ++axis) {
-                const __m128 nearPlane = _mm_load_ps(node.bounds[axis][nearSide[axis]]);
-                const __m128 farPlane = _mm_load_ps(node.bounds[axis][1 - nearSide[axis]]);
-                const __m128 t0 =
-                    _mm_sub_ps(_mm_mul_ps(nearPlane, invDir[axis]), originScaled[axis]);
-                const __m128 t1 = _mm_mul_ps(
-                    _mm_sub_ps(_mm_mul_ps(farPlane, invDir[axis]), originScaled[axis]), farScale);
-                tNear = _mm_max_ps(t0, tNear);
-                tFar = _mm_min_ps(t1, tFar);
-            }
-            unsigned entered = static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(tNear, tFar)));
+        if (!BVHReference::isLeaf(current)) {
+            const Node &node = m_nodes[current];
+            alignas(32) float distance[Width];
+            unsigned entered = nodeRay.intersect(node, tMax, distance);
             if (entered != 0) {
-                alignas(16) float distance[BVHNode::kWidth];
-                _mm_store_ps(distance, tNear);
                 const int first = __builtin_ctz(entered);
                 entered &= entered - 1;
                 if (entered == 0) { // one child: no stack traffic
@@ -165,7 +192,7 @@ bool BVH::traverse(const Ray3f &ray, float &tMax, bool anyHit,
                 }
                 // Several children: push them so that the one to visit next is on top.
                 // Closest hit: sorted by entry distance, farthest pushed first (insertion
-                // sort of at most four); any hit: in stored order, so reversed on the stack.
+                // sort of at most Width); any hit: in stored order, so reversed on the stack.
                 const int base = stackSize;
                 stack[stackSize++] = Entry{node.child[first], distance[first]};
                 while (entered != 0) {
@@ -183,17 +210,20 @@ bool BVH::traverse(const Ray3f &ray, float &tMax, bool anyHit,
                 // The children left on the stack are needed later: bring them into the
                 // cache now, overlapping the memory latency with the nearest subtree.
                 for (int i = base; i + 1 < stackSize; ++i)
-                    if (!BVHNode::isLeaf(stack[i].child)) {
+                    if (!BVHReference::isLeaf(stack[i].child)) {
                         const char *address =
                             reinterpret_cast<const char *>(&m_nodes[stack[i].child]);
-                        __builtin_prefetch(address);
-                        __builtin_prefetch(address + 64);
+                        for (size_t line = 0; line < sizeof(Node); line += 64)
+                            __builtin_prefetch(address + line);
+                    } else {
+                        prefetchLeaf(BVHReference::leafFirst(stack[i].child),
+                                     BVHReference::leafCount(stack[i].child));
                     }
                 current = stack[--stackSize].child;
                 continue;
             }
-        } else if (const uint32_t count = BVHNode::leafCount(current);
-                   count > 0 && intersectLeaf(BVHNode::leafFirst(current), count, tMax)) {
+        } else if (const uint32_t count = BVHReference::leafCount(current);
+                   count > 0 && intersectLeaf(BVHReference::leafFirst(current), count, tMax)) {
             hit = true;
             if (anyHit)
                 return true;
@@ -207,6 +237,71 @@ bool BVH::traverse(const Ray3f &ray, float &tMax, bool anyHit,
         } while (stack[stackSize].tEntry > tMax);
         current = stack[stackSize].child;
     }
+}
+
+template <int Width> auto NodeRay<Width>::broadcast(float value) -> Lanes {
+    if constexpr (kAvx)
+        return _mm256_set1_ps(value);
+    else
+        return _mm_set1_ps(value);
+}
+
+template <int Width> NodeRay<Width>::NodeRay(const Ray3f &ray) {
+    // Per ray: for each axis, which of a node's two planes is entered first, and o/d, so
+    // that the slab distance (plane − o)/d is one multiply and one subtraction.
+    for (int axis = 0; axis < 3; ++axis) {
+        m_invDir[axis] = broadcast(ray.dRcp[axis]);
+        m_originScaled[axis] = broadcast(ray.o[axis] * ray.dRcp[axis]);
+        m_nearSide[axis] = ray.dRcp[axis] < 0.0f ? 1 : 0;
+    }
+    // Widening the far distance by 2γ₃ keeps the slab test conservative under rounding
+    // (PBR 4th ed. §6.8.2).
+    m_farScale = broadcast(1.0f + 2.0f * gammaBound(3));
+    m_segmentStart = broadcast(ray.mint);
+}
+
+template <int Width>
+unsigned NodeRay<Width>::intersect(const BVHNode<Width> &node, float tMax, float *distance) const {
+    // A zero direction component gives ±inf distances (NaN when the origin lies on the
+    // plane): max and min return their second operand for a NaN, so such a plane leaves
+    // the running interval as it was.
+    unsigned entered = 0;
+    for (int first = 0; first < Width; first += kLanes) {
+        Lanes tNear = m_segmentStart, tFar = broadcast(tMax);
+        for (int axis = 0; axis < 3; ++axis) {
+            const float *nearPlane = &node.bounds[axis][m_nearSide[axis]][first];
+            const float *farPlane = &node.bounds[axis][1 - m_nearSide[axis]][first];
+            if constexpr (kAvx) {
+                const Lanes t0 = _mm256_sub_ps(
+                    _mm256_mul_ps(_mm256_load_ps(nearPlane), m_invDir[axis]), m_originScaled[axis]);
+                const Lanes t1 = _mm256_mul_ps(
+                    _mm256_sub_ps(_mm256_mul_ps(_mm256_load_ps(farPlane), m_invDir[axis]),
+                                  m_originScaled[axis]),
+                    m_farScale);
+                tNear = _mm256_max_ps(t0, tNear);
+                tFar = _mm256_min_ps(t1, tFar);
+            } else {
+                const Lanes t0 = _mm_sub_ps(_mm_mul_ps(_mm_load_ps(nearPlane), m_invDir[axis]),
+                                            m_originScaled[axis]);
+                const Lanes t1 =
+                    _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_load_ps(farPlane), m_invDir[axis]),
+                                          m_originScaled[axis]),
+                               m_farScale);
+                tNear = _mm_max_ps(t0, tNear);
+                tFar = _mm_min_ps(t1, tFar);
+            }
+        }
+        int mask;
+        if constexpr (kAvx) {
+            _mm256_store_ps(distance + first, tNear);
+            mask = _mm256_movemask_ps(_mm256_cmp_ps(tNear, tFar, _CMP_LE_OQ));
+        } else {
+            _mm_store_ps(distance + first, tNear);
+            mask = _mm_movemask_ps(_mm_cmple_ps(tNear, tFar));
+        }
+        entered |= static_cast<unsigned>(mask) << first;
+    }
+    return entered;
 }
 
 } // namespace nori

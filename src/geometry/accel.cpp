@@ -57,7 +57,7 @@ void Accel::build() {
                               bounds[i] =
                                   m_shapes[refs[i].first]->getPrimitiveBoundingBox(refs[i].second);
                       });
-    m_bvh.build(bounds, BVH::kIntersectionCost, TrianglePacket::kWidth);
+    m_bvh.build(bounds, BVHBase::kIntersectionCost, TrianglePacket::kWidth);
     std::vector<BoundingBox3f>().swap(bounds); // frees it (`= {}` would keep the capacity)
     m_bbox = m_bvh.getBoundingBox();
 
@@ -65,14 +65,15 @@ void Accel::build() {
     const std::vector<uint32_t> order = m_bvh.takePrimitiveOrder();
     const size_t packetCount = (order.size() + TrianglePacket::kWidth - 1) / TrianglePacket::kWidth;
     m_packets.resize(packetCount);
-    m_ids.assign(packetCount * TrianglePacket::kWidth, {BVH::kNoPrimitive, BVH::kNoPrimitive});
+    m_ids.assign(packetCount * TrianglePacket::kWidth,
+                 {BVHBase::kNoPrimitive, BVHBase::kNoPrimitive});
     tbb::parallel_for(tbb::blocked_range<size_t>(0, packetCount, 1024),
                       [&](const tbb::blocked_range<size_t> &range) {
                           for (size_t packet = range.begin(); packet != range.end(); ++packet)
                               for (int lane = 0; lane < TrianglePacket::kWidth; ++lane) {
                                   const size_t slot = packet * TrianglePacket::kWidth + lane;
                                   m_packets[packet].clear(lane);
-                                  if (slot >= order.size() || order[slot] == BVH::kNoPrimitive)
+                                  if (slot >= order.size() || order[slot] == BVHBase::kNoPrimitive)
                                       continue;
                                   const auto [shapeIndex, primIndex] = refs[order[slot]];
                                   m_ids[slot] = {shapeIndex, primIndex};
@@ -111,8 +112,9 @@ void Accel::build() {
 size_t Accel::memoryBytes() const {
     // NOLINTBEGIN(bugprone-sizeof-expression): two of the vectors hold pointers, whose
     // size is what they cost.
-    return m_bvh.nodeCount() * sizeof(BVHNode) + m_packets.capacity() * sizeof(TrianglePacket) +
-           m_ids.capacity() * sizeof(PrimitiveId) + m_instanceBvh.nodeCount() * sizeof(BVHNode) +
+    return m_bvh.nodeCount() * sizeof(decltype(m_bvh)::Node) +
+           m_packets.capacity() * sizeof(TrianglePacket) + m_ids.capacity() * sizeof(PrimitiveId) +
+           m_instanceBvh.nodeCount() * sizeof(decltype(m_instanceBvh)::Node) +
            m_instances.capacity() * sizeof(InstanceRecord) +
            m_targets.capacity() * sizeof(decltype(m_targets)::value_type) +
            m_shapes.capacity() * sizeof(decltype(m_shapes)::value_type) + m_isMesh.capacity();
@@ -180,8 +182,17 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
             }
             return hitInLeaf;
         };
+        // A leaf's packets are contiguous: prefetch every cache line they touch.
+        auto prefetchLeaf = [&](uint32_t first, uint32_t count) {
+            const auto begin =
+                reinterpret_cast<uintptr_t>(&m_packets[first / TrianglePacket::kWidth]);
+            const auto end = reinterpret_cast<uintptr_t>(
+                &m_packets[(first + count - 1) / TrianglePacket::kWidth] + 1);
+            for (uintptr_t line = begin & ~uintptr_t(63); line < end; line += 64)
+                __builtin_prefetch(reinterpret_cast<const void *>(line));
+        };
         float tLimit = ray.maxt;
-        m_bvh.traverse(ray, tLimit, anyHit, intersectLeaf);
+        m_bvh.traverse(ray, tLimit, anyHit, intersectLeaf, prefetchLeaf);
         if (found) {
             if (anyHit)
                 return true;
@@ -227,7 +238,7 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
             return hitInLeaf;
         };
         float tLimit = tBest;
-        m_instanceBvh.traverse(ray, tLimit, anyHit, intersectLeaf);
+        m_instanceBvh.traverse(ray, tLimit, anyHit, intersectLeaf, [](uint32_t, uint32_t) {});
     }
     return found;
 }
