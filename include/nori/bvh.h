@@ -127,8 +127,9 @@ protected:
 };
 
 /// The tree itself, of nodes with Width children: 8 for triangles (fewer levels, so
-/// fewer dependent cache misses per ray), 4 for instances (whose leaves hold one
-/// instance each, so that wider nodes would mostly hold empty slots).
+/// fewer dependent cache misses per ray), 4 for instances (one or two to a leaf, which
+/// leaves 8-wide nodes so empty that they measured 146 bytes per instance, over the
+/// 128-byte budget; 4-wide ones, 119).
 template <int Width> class BVH : public BVHBase {
 public:
     using Node = BVHNode<Width>;
