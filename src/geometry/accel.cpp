@@ -184,12 +184,14 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
         };
         // A leaf's packets are contiguous: prefetch every cache line they touch.
         auto prefetchLeaf = [&](uint32_t first, uint32_t count) {
-            const auto begin =
-                reinterpret_cast<uintptr_t>(&m_packets[first / TrianglePacket::kWidth]);
-            const auto end = reinterpret_cast<uintptr_t>(
+            const auto *begin =
+                reinterpret_cast<const char *>(&m_packets[first / TrianglePacket::kWidth]);
+            const auto *end = reinterpret_cast<const char *>(
                 &m_packets[(first + count - 1) / TrianglePacket::kWidth] + 1);
-            for (uintptr_t line = begin & ~uintptr_t(63); line < end; line += 64)
-                __builtin_prefetch(reinterpret_cast<const void *>(line));
+            // From the start of the first packet's cache line.
+            for (const char *line = begin - reinterpret_cast<uintptr_t>(begin) % 64; line < end;
+                 line += 64)
+                __builtin_prefetch(line);
         };
         float tLimit = ray.maxt;
         m_bvh.traverse(ray, tLimit, anyHit, intersectLeaf, prefetchLeaf);
