@@ -55,10 +55,37 @@ template <int Width> struct alignas(64) BVHNode {
 static_assert(sizeof(BVHNode<4>) == 128 && sizeof(BVHNode<8>) == 256,
               "BVH nodes must fill whole cache lines");
 
-/// __m256 or __m128: a specialisation, as std::conditional would drop the vector types'
-/// alignment attribute.
-template <bool Avx> struct SimdLanes { using Type = __m128; };
-template <> struct SimdLanes<true> { using Type = __m256; };
+/// The few SIMD operations of the slab test, on four lanes (SSE, every x86-64) or eight
+/// (AVX, when the build targets it).
+template <int Lanes> struct SimdFloats;
+template <> struct SimdFloats<4> {
+    using Type = __m128;
+    static Type broadcast(float value) { return _mm_set1_ps(value); }
+    static Type load(const float *p) { return _mm_load_ps(p); }
+    static void store(float *p, Type a) { _mm_store_ps(p, a); }
+    static Type sub(Type a, Type b) { return _mm_sub_ps(a, b); }
+    static Type mul(Type a, Type b) { return _mm_mul_ps(a, b); }
+    /// For a NaN, max and min return their second operand.
+    static Type max(Type a, Type b) { return _mm_max_ps(a, b); }
+    static Type min(Type a, Type b) { return _mm_min_ps(a, b); }
+    /// Bit i set: a[i] <= b[i] (false for a NaN).
+    static int lessEqual(Type a, Type b) { return _mm_movemask_ps(_mm_cmple_ps(a, b)); }
+};
+#ifdef __AVX__
+template <> struct SimdFloats<8> {
+    using Type = __m256;
+    static Type broadcast(float value) { return _mm256_set1_ps(value); }
+    static Type load(const float *p) { return _mm256_load_ps(p); }
+    static void store(float *p, Type a) { _mm256_store_ps(p, a); }
+    static Type sub(Type a, Type b) { return _mm256_sub_ps(a, b); }
+    static Type mul(Type a, Type b) { return _mm256_mul_ps(a, b); }
+    static Type max(Type a, Type b) { return _mm256_max_ps(a, b); }
+    static Type min(Type a, Type b) { return _mm256_min_ps(a, b); }
+    static int lessEqual(Type a, Type b) {
+        return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ));
+    }
+};
+#endif
 
 /// A ray's slab test against the boxes of a node (PBR 4th ed. §6.1.2): SSE over four
 /// children at a time, or AVX over eight when the build targets it.
@@ -71,14 +98,13 @@ public:
 
 private:
 #ifdef __AVX__
-    static constexpr bool kAvx = Width % 8 == 0;
+    static constexpr int kLanes = Width % 8 == 0 ? 8 : 4;
 #else
-    static constexpr bool kAvx = false;
+    static constexpr int kLanes = 4;
 #endif
-    using Lanes = typename SimdLanes<kAvx>::Type;
-    static constexpr int kLanes = kAvx ? 8 : 4;
     static_assert(Width % kLanes == 0, "a node's width is a multiple of the SIMD width");
-    static Lanes broadcast(float value);
+    using Simd = SimdFloats<kLanes>;
+    using Lanes = typename Simd::Type;
     Lanes m_invDir[3], m_originScaled[3], m_farScale, m_segmentStart;
     int m_nearSide[3];
 };
@@ -240,25 +266,18 @@ bool BVH<Width>::traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectL
     }
 }
 
-template <int Width> auto NodeRay<Width>::broadcast(float value) -> Lanes {
-    if constexpr (kAvx)
-        return _mm256_set1_ps(value);
-    else
-        return _mm_set1_ps(value);
-}
-
 template <int Width> NodeRay<Width>::NodeRay(const Ray3f &ray) {
     // Per ray: for each axis, which of a node's two planes is entered first, and o/d, so
     // that the slab distance (plane − o)/d is one multiply and one subtraction.
     for (int axis = 0; axis < 3; ++axis) {
-        m_invDir[axis] = broadcast(ray.dRcp[axis]);
-        m_originScaled[axis] = broadcast(ray.o[axis] * ray.dRcp[axis]);
+        m_invDir[axis] = Simd::broadcast(ray.dRcp[axis]);
+        m_originScaled[axis] = Simd::broadcast(ray.o[axis] * ray.dRcp[axis]);
         m_nearSide[axis] = ray.dRcp[axis] < 0.0f ? 1 : 0;
     }
     // Widening the far distance by 2γ₃ keeps the slab test conservative under rounding
     // (PBR 4th ed. §6.8.2).
-    m_farScale = broadcast(1.0f + 2.0f * gammaBound(3));
-    m_segmentStart = broadcast(ray.mint);
+    m_farScale = Simd::broadcast(1.0f + 2.0f * gammaBound(3));
+    m_segmentStart = Simd::broadcast(ray.mint);
 }
 
 template <int Width>
@@ -268,38 +287,18 @@ unsigned NodeRay<Width>::intersect(const BVHNode<Width> &node, float tMax, float
     // the running interval as it was.
     unsigned entered = 0;
     for (int first = 0; first < Width; first += kLanes) {
-        Lanes tNear = m_segmentStart, tFar = broadcast(tMax);
+        Lanes tNear = m_segmentStart, tFar = Simd::broadcast(tMax);
         for (int axis = 0; axis < 3; ++axis) {
-            const float *nearPlane = &node.bounds[axis][m_nearSide[axis]][first];
-            const float *farPlane = &node.bounds[axis][1 - m_nearSide[axis]][first];
-            if constexpr (kAvx) {
-                const Lanes t0 = _mm256_sub_ps(
-                    _mm256_mul_ps(_mm256_load_ps(nearPlane), m_invDir[axis]), m_originScaled[axis]);
-                const Lanes t1 = _mm256_mul_ps(
-                    _mm256_sub_ps(_mm256_mul_ps(_mm256_load_ps(farPlane), m_invDir[axis]),
-                                  m_originScaled[axis]),
-                    m_farScale);
-                tNear = _mm256_max_ps(t0, tNear);
-                tFar = _mm256_min_ps(t1, tFar);
-            } else {
-                const Lanes t0 = _mm_sub_ps(_mm_mul_ps(_mm_load_ps(nearPlane), m_invDir[axis]),
-                                            m_originScaled[axis]);
-                const Lanes t1 =
-                    _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_load_ps(farPlane), m_invDir[axis]),
-                                          m_originScaled[axis]),
-                               m_farScale);
-                tNear = _mm_max_ps(t0, tNear);
-                tFar = _mm_min_ps(t1, tFar);
-            }
+            const Lanes nearPlane = Simd::load(&node.bounds[axis][m_nearSide[axis]][first]);
+            const Lanes farPlane = Simd::load(&node.bounds[axis][1 - m_nearSide[axis]][first]);
+            const Lanes t0 = Simd::sub(Simd::mul(nearPlane, m_invDir[axis]), m_originScaled[axis]);
+            const Lanes t1 = Simd::mul(
+                Simd::sub(Simd::mul(farPlane, m_invDir[axis]), m_originScaled[axis]), m_farScale);
+            tNear = Simd::max(t0, tNear);
+            tFar = Simd::min(t1, tFar);
         }
-        int mask;
-        if constexpr (kAvx) {
-            _mm256_store_ps(distance + first, tNear);
-            mask = _mm256_movemask_ps(_mm256_cmp_ps(tNear, tFar, _CMP_LE_OQ));
-        } else {
-            _mm_store_ps(distance + first, tNear);
-            mask = _mm_movemask_ps(_mm_cmple_ps(tNear, tFar));
-        }
+        Simd::store(distance + first, tNear);
+        const int mask = Simd::lessEqual(tNear, tFar);
         entered |= static_cast<unsigned>(mask) << first;
     }
     return entered;
