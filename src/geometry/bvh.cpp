@@ -57,7 +57,7 @@ public:
                                ? findSahSplit(first, count, bounds, centroidBounds, split)
                                : false;
         if (!found && count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize)) {
-            makeLeaf(node, first, count);
+            node.leaf = true;
             return nodeIndex;
         }
 
@@ -122,12 +122,6 @@ private:
         int axis = 0;
         extents.maxCoeff(&axis);
         return axis;
-    }
-
-    void makeLeaf(BuildNode &node, uint32_t first, uint32_t count) {
-        node.leaf = true;
-        node.first = first;
-        node.count = count;
     }
 
     void rangeBounds(uint32_t first, uint32_t count, BoundingBox3f &bounds,
