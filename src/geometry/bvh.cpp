@@ -1,86 +1,244 @@
 #include <nori/bvh.h>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
 
 #include <array>
 #include <atomic>
+#include <cstring>
+#include <memory>
 
 namespace nori {
 
 namespace {
 
-/// A primitive during the build: its bounds, centroid and index.
+/// A box in two SSE registers, for the build's inner loops: lanes 0-2 hold x, y, z;
+/// lane 3 is ignored.
+struct SimdBox {
+    __m128 lower = _mm_set1_ps(kInfinity);
+    __m128 upper = _mm_set1_ps(-kInfinity);
+
+    void expand(__m128 boxLower, __m128 boxUpper) {
+        lower = _mm_min_ps(lower, boxLower);
+        upper = _mm_max_ps(upper, boxUpper);
+    }
+    void expand(const SimdBox &box) { expand(box.lower, box.upper); }
+    void expand(__m128 point) { expand(point, point); }
+
+    BoundingBox3f box() const {
+        alignas(16) float low[4], high[4];
+        _mm_store_ps(low, lower);
+        _mm_store_ps(high, upper);
+        return BoundingBox3f(Point3f(low[0], low[1], low[2]), Point3f(high[0], high[1], high[2]));
+    }
+};
+
+/// A primitive during the build, 32 bytes: its box, with its index in the fourth lane
+/// of the minimum (as bits; box operations ignore that lane).
 struct PrimitiveRef {
-    BoundingBox3f bounds;
-    Point3f centroid;
-    uint32_t index;
+    __m128 lower, upper;
+
+    PrimitiveRef() = default;
+    PrimitiveRef(const BoundingBox3f &box, uint32_t index)
+        : lower(_mm_castsi128_ps(_mm_setr_epi32(bitCast(box.min.x()), bitCast(box.min.y()),
+                                                bitCast(box.min.z()), static_cast<int>(index)))),
+          upper(_mm_setr_ps(box.max.x(), box.max.y(), box.max.z(), 0.0f)) {}
+
+    /// Twice the box's centroid: the build bins centroids in that scale, one addition.
+    __m128 centroid2() const { return _mm_add_ps(lower, upper); }
+    uint32_t index() const {
+        return static_cast<uint32_t>(
+            _mm_cvtsi128_si32(_mm_shuffle_epi32(_mm_castps_si128(lower), 3)));
+    }
+
+private:
+    static int bitCast(float value) {
+        int bits;
+        std::memcpy(&bits, &value, sizeof(bits));
+        return bits;
+    }
 };
 
-/// A node of the temporary tree; children index into the same array.
+/// A node of the temporary binary tree; children index into the same array. Trivial, so
+/// that the array sized for the worst case (2n − 1 nodes) costs only the pages used.
 struct BuildNode {
-    BoundingBox3f bounds;
-    uint32_t children[2] = {0, 0};
-    uint32_t first = 0, count = 0; ///< primitive range of the subtree
-    uint16_t axis = 0;
-    bool leaf = false;
+    float lower[3], upper[3]; ///< bounds
+    uint32_t children[2];
+    uint32_t first, count; ///< primitive range of the subtree
+    bool leaf;
+
+    void setBounds(const SimdBox &box) {
+        const BoundingBox3f bounds = box.box();
+        for (int axis = 0; axis < 3; ++axis) {
+            lower[axis] = bounds.min[axis];
+            upper[axis] = bounds.max[axis];
+        }
+    }
+    BoundingBox3f bounds() const {
+        return BoundingBox3f(Point3f(lower[0], lower[1], lower[2]),
+                             Point3f(upper[0], upper[1], upper[2]));
+    }
 };
 
-struct Bin {
-    BoundingBox3f bounds;
-    BoundingBox3f centroidBounds;
-    uint32_t count = 0;
+/// Maps doubled centroids to bins on the three axes at once: ⌊scale·(c − origin)⌋,
+/// clamped to [0, kBinCount − 1] (clamping before truncation gives the same bin).
+struct BinMapping {
+    __m128 origin, scale;
+
+    explicit BinMapping(const SimdBox &centroids) : origin(centroids.lower) {
+        // k slightly below kBinCount/extent, so that the maximum lands in the last bin; an
+        // axis without extent gets k = 0 and is not split.
+        alignas(16) float extent[4], k[4] = {0, 0, 0, 0};
+        _mm_store_ps(extent, _mm_sub_ps(centroids.upper, centroids.lower));
+        for (int axis = 0; axis < 3; ++axis)
+            k[axis] =
+                extent[axis] > 0.0f ? BVHBase::kBinCount * (1.0f - 1e-6f) / extent[axis] : 0.0f;
+        scale = _mm_load_ps(k);
+    }
+    bool splits(int axis) const {
+        alignas(16) float k[4];
+        _mm_store_ps(k, scale);
+        return k[axis] > 0.0f;
+    }
+    /// The bin coordinates, still as floats: their integer parts are the bins.
+    __m128 coordinates(__m128 centroid2) const {
+        const __m128 x = _mm_mul_ps(_mm_sub_ps(centroid2, origin), scale);
+        return _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(BVHBase::kBinCount - 1));
+    }
+};
+
+/// Three boxes transposed: lane a of lower[k] is box a's minimum on axis k. The SAH sweep
+/// advances the three binning axes at once this way.
+struct TransposedBoxes {
+    __m128 lower[3], upper[3];
+
+    TransposedBoxes() {
+        for (int k = 0; k < 3; ++k) {
+            lower[k] = _mm_set1_ps(kInfinity);
+            upper[k] = _mm_set1_ps(-kInfinity);
+        }
+    }
+    TransposedBoxes(const SimdBox &a, const SimdBox &b, const SimdBox &c) {
+        __m128 low3 = _mm_setzero_ps(), high3 = _mm_setzero_ps();
+        lower[0] = a.lower, lower[1] = b.lower, lower[2] = c.lower;
+        upper[0] = a.upper, upper[1] = b.upper, upper[2] = c.upper;
+        _MM_TRANSPOSE4_PS(lower[0], lower[1], lower[2], low3);
+        _MM_TRANSPOSE4_PS(upper[0], upper[1], upper[2], high3);
+    }
+    void expand(const TransposedBoxes &other) {
+        for (int k = 0; k < 3; ++k) {
+            lower[k] = _mm_min_ps(lower[k], other.lower[k]);
+            upper[k] = _mm_max_ps(upper[k], other.upper[k]);
+        }
+    }
+    /// The three surface areas, each as BoundingBox3f::getSurfaceArea computes it.
+    __m128 surfaceAreas() const {
+        const __m128 ex = _mm_sub_ps(upper[0], lower[0]), ey = _mm_sub_ps(upper[1], lower[1]),
+                     ez = _mm_sub_ps(upper[2], lower[2]);
+        const __m128 sum =
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ey), _mm_mul_ps(ey, ez)), _mm_mul_ps(ez, ex));
+        return _mm_mul_ps(_mm_set1_ps(2.0f), sum);
+    }
+};
+
+/// The bins of the three axes: the union of their primitives' boxes, and their counts.
+struct Bins {
+    /// From this many primitives on, binning uses two sets of bins (see add()).
+    static constexpr ptrdiff_t kTwoSetMinimum = 64;
+
+    std::array<std::array<SimdBox, BVHBase::kBinCount>, 3> boxes;
+    /// counts[b][axis]: four lanes per bin (the fourth unused), read as one vector.
+    alignas(16) std::array<std::array<uint32_t, 4>, BVHBase::kBinCount> counts{};
+
+    void add(const PrimitiveRef &ref, const BinMapping &mapping) {
+        alignas(16) int bin[4];
+        _mm_store_si128(reinterpret_cast<__m128i *>(bin),
+                        _mm_cvttps_epi32(mapping.coordinates(ref.centroid2())));
+        for (int axis = 0; axis < 3; ++axis) {
+            boxes[axis][bin[axis]].expand(ref.lower, ref.upper);
+            ++counts[bin[axis]][axis];
+        }
+    }
+    void add(const PrimitiveRef *begin, const PrimitiveRef *end, const BinMapping &mapping) {
+        // Neighbouring primitives often share a bin, and each update waits for the last
+        // one's store: over many primitives, odd ones go to a second set of bins, so two
+        // chains of updates run side by side.
+        if (end - begin < kTwoSetMinimum) {
+            for (const PrimitiveRef *ref = begin; ref != end; ++ref)
+                add(*ref, mapping);
+            return;
+        }
+        Bins odd;
+        const PrimitiveRef *ref = begin;
+        for (; ref + 1 < end; ref += 2) {
+            add(ref[0], mapping);
+            odd.add(ref[1], mapping);
+        }
+        if (ref != end)
+            add(*ref, mapping);
+        add(odd);
+    }
+    void add(const Bins &other) {
+        for (int axis = 0; axis < 3; ++axis)
+            for (int b = 0; b < BVHBase::kBinCount; ++b) {
+                boxes[axis][b].expand(other.boxes[axis][b]);
+                counts[b][axis] += other.counts[b][axis];
+            }
+    }
 };
 
 /// Subtrees with more primitives than this are built as parallel tasks.
 constexpr uint32_t kParallelThreshold = 4096;
+/// Nodes with more primitives than this are binned in parallel.
+constexpr uint32_t kParallelBinThreshold = 65536;
 
 class Builder {
 public:
     Builder(std::vector<PrimitiveRef> &refs, float intersectionCost, uint32_t blockSize)
-        : m_refs(refs), m_nodes(std::max<size_t>(1, 2 * refs.size())),
+        : m_refs(refs),
+          // At most 2n − 1 nodes. Default-initialised: BuildNode is trivial, so no page is
+          // touched before use (make_unique would zero them all).
+          m_nodes(new BuildNode[std::max<size_t>(1, 2 * refs.size())]), // NOLINT
           m_intersectionCost(intersectionCost), m_blockSize(blockSize) {}
 
-    /// Builds the subtree over refs[first, first + count), whose bounds and centroid
-    /// bounds are given; returns its node index.
-    uint32_t build(uint32_t first, uint32_t count, const BoundingBox3f &bounds,
-                   const BoundingBox3f &centroidBounds, int depth) {
+    /// Builds the subtree over refs[first, first + count), whose bounds and doubled
+    /// centroid bounds are given; returns its node index.
+    uint32_t build(uint32_t first, uint32_t count, const SimdBox &bounds, const SimdBox &centroids,
+                   int depth) {
         const uint32_t nodeIndex = m_nextNode.fetch_add(1, std::memory_order_relaxed);
         BuildNode &node = m_nodes[nodeIndex];
-        node.bounds = bounds;
+        node.setBounds(bounds);
         node.first = first;
         node.count = count;
-
+        node.leaf = false;
+        const BinMapping mapping(centroids);
         Split split;
         const bool found = depth < BVHBase::kSahDepthLimit
-                               ? findSahSplit(first, count, bounds, centroidBounds, split)
+                               ? findSahSplit(first, count, bounds, mapping, split)
                                : false;
         if (!found && count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize)) {
             node.leaf = true;
+            m_leafCount.fetch_add(1, std::memory_order_relaxed);
             return nodeIndex;
         }
 
         uint32_t leftCount;
-        BoundingBox3f leftBounds, rightBounds, leftCentroids, rightCentroids;
+        SimdBox leftBounds, rightBounds, leftCentroids, rightCentroids;
         if (found) {
-            leftCount = partition(first, count, split);
+            leftCount = partition(first, count, split, mapping, leftCentroids, rightCentroids);
             leftBounds = split.leftBounds;
             rightBounds = split.rightBounds;
-            leftCentroids = split.leftCentroids;
-            rightCentroids = split.rightCentroids;
-            node.axis = static_cast<uint16_t>(split.axis);
         } else {
             // No useful SAH split (identical centroids, or too deep) but too many
             // primitives for a leaf: halve the list along the widest centroid axis.
             leftCount = count / 2;
-            const int axis = widestAxis(centroidBounds);
+            const int axis = widestAxis(centroids);
             auto begin = m_refs.begin() + first;
             std::nth_element(begin, begin + leftCount, begin + count,
                              [axis](const PrimitiveRef &a, const PrimitiveRef &b) {
-                                 return a.centroid[axis] < b.centroid[axis];
+                                 return lane(a.centroid2(), axis) < lane(b.centroid2(), axis);
                              });
-            node.axis = static_cast<uint16_t>(axis);
             rangeBounds(first, leftCount, leftBounds, leftCentroids);
             rangeBounds(first + leftCount, count - leftCount, rightBounds, rightCentroids);
         }
@@ -104,99 +262,117 @@ public:
         return nodeIndex;
     }
 
-    const std::vector<BuildNode> &nodes() const { return m_nodes; }
+    const BuildNode &node(uint32_t index) const { return m_nodes[index]; }
     uint32_t nodeCount() const { return m_nextNode.load(); }
+    uint32_t leafCount() const { return m_leafCount.load(); }
 
 private:
     struct Split {
         int axis = -1;
-        int bin = 0;         ///< primitives in bins [0, bin] go left
-        float origin = 0.0f; ///< binning of the chosen axis: bin = scale·(c − origin)
-        float scale = 0.0f;
+        int bin = 0; ///< primitives in bins [0, bin] go left
         float cost = 0.0f;
-        BoundingBox3f leftBounds, rightBounds, leftCentroids, rightCentroids;
+        SimdBox leftBounds, rightBounds;
     };
 
-    static int widestAxis(const BoundingBox3f &box) {
-        const Vector3f extents = box.getExtents();
+    static float lane(__m128 value, int index) {
+        alignas(16) float lanes[4];
+        _mm_store_ps(lanes, value);
+        return lanes[index];
+    }
+
+    static int widestAxis(const SimdBox &box) {
+        const Vector3f extents = box.box().getExtents();
         int axis = 0;
         extents.maxCoeff(&axis);
         return axis;
     }
 
-    void rangeBounds(uint32_t first, uint32_t count, BoundingBox3f &bounds,
-                     BoundingBox3f &centroids) const {
-        bounds = BoundingBox3f();
-        centroids = BoundingBox3f();
+    void rangeBounds(uint32_t first, uint32_t count, SimdBox &bounds, SimdBox &centroids) const {
+        bounds = centroids = SimdBox();
         for (uint32_t i = first; i < first + count; ++i) {
-            bounds.expandBy(m_refs[i].bounds);
-            centroids.expandBy(m_refs[i].centroid);
+            bounds.expand(m_refs[i].lower, m_refs[i].upper);
+            centroids.expand(m_refs[i].centroid2());
         }
     }
 
     /// Bins the centroids on every axis with a usable extent and sweeps the bin
     /// boundaries for the lowest SAH cost. Returns false when a leaf is cheaper.
-    bool findSahSplit(uint32_t first, uint32_t count, const BoundingBox3f &bounds,
-                      const BoundingBox3f &centroidBounds, Split &best) const {
-        if (count <= 1)
+    bool findSahSplit(uint32_t first, uint32_t count, const SimdBox &bounds,
+                      const BinMapping &mapping, Split &best) const {
+        // A split costs at least a traversal step, so a leaf that costs no more stays one.
+        const float leafCost = m_intersectionCost * blocks(count);
+        if (count <= 1 || (count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize) &&
+                           leafCost <= BVHBase::kTraversalCost))
             return false;
-        const Vector3f extent = centroidBounds.getExtents();
-        // Map a centroid to a bin: k·(c − min), with k slightly below kBinCount/extent so
-        // that the maximum lands in the last bin.
-        Vector3f scale;
-        for (int axis = 0; axis < 3; ++axis)
-            scale[axis] =
-                extent[axis] > 0.0f ? BVHBase::kBinCount * (1.0f - 1e-6f) / extent[axis] : 0.0f;
-
-        std::array<std::array<Bin, BVHBase::kBinCount>, 3> bins;
-        for (uint32_t i = first; i < first + count; ++i) {
-            const PrimitiveRef &ref = m_refs[i];
-            for (int axis = 0; axis < 3; ++axis) {
-                if (scale[axis] == 0.0f)
-                    continue;
-                const int b = binIndex(ref.centroid[axis], centroidBounds.min[axis], scale[axis]);
-                Bin &bin = bins[axis][b];
-                bin.bounds.expandBy(ref.bounds);
-                bin.centroidBounds.expandBy(ref.centroid);
-                ++bin.count;
-            }
+        const PrimitiveRef *begin = m_refs.data() + first, *end = begin + count;
+        Bins bins;
+        if (count > kParallelBinThreshold) {
+            bins = tbb::parallel_reduce(
+                tbb::blocked_range<const PrimitiveRef *>(begin, end, kParallelBinThreshold / 4),
+                Bins(),
+                [&](const tbb::blocked_range<const PrimitiveRef *> &range, Bins partial) {
+                    partial.add(range.begin(), range.end(), mapping);
+                    return partial;
+                },
+                [](Bins a, const Bins &b) {
+                    a.add(b);
+                    return a;
+                });
+        } else {
+            bins.add(begin, end, mapping);
         }
 
-        const float leafCost = m_intersectionCost * blocks(count);
-        const float invArea = 1.0f / bounds.getSurfaceArea();
-        best.cost = std::numeric_limits<float>::infinity();
+        const float invArea = 1.0f / bounds.box().getSurfaceArea();
+        // The sweeps run on the three axes at once, lane a for axis a.
+        constexpr int kBins = BVHBase::kBinCount;
+        auto countsOf = [&](int b) {
+            return _mm_load_si128(reinterpret_cast<const __m128i *>(bins.counts[b].data()));
+        };
+        TransposedBoxes binBoxes[kBins];
+        for (int b = 0; b < kBins; ++b)
+            binBoxes[b] = TransposedBoxes(bins.boxes[0][b], bins.boxes[1][b], bins.boxes[2][b]);
+        // From the right: area and count of everything right of each boundary.
+        __m128 rightArea[kBins];
+        __m128i rightCount[kBins];
+        TransposedBoxes accumulated;
+        __m128i accumulatedCount = _mm_setzero_si128();
+        for (int b = kBins - 1; b > 0; --b) {
+            accumulated.expand(binBoxes[b]);
+            accumulatedCount = _mm_add_epi32(accumulatedCount, countsOf(b));
+            rightArea[b] = accumulated.surfaceAreas();
+            rightCount[b] = accumulatedCount;
+        }
+        // From the left, splitting between bins b and b + 1: cost[b][axis].
+        alignas(16) std::array<std::array<float, 4>, kBins> cost;
+        const __m128 costScale = _mm_set1_ps(m_intersectionCost * invArea);
+        const __m128i empty = _mm_setzero_si128();
+        accumulated = TransposedBoxes();
+        accumulatedCount = _mm_setzero_si128();
+        for (int b = 0; b < kBins - 1; ++b) {
+            accumulated.expand(binBoxes[b]);
+            accumulatedCount = _mm_add_epi32(accumulatedCount, countsOf(b));
+            const __m128 sides =
+                _mm_add_ps(_mm_mul_ps(accumulated.surfaceAreas(), blocks(accumulatedCount)),
+                           _mm_mul_ps(rightArea[b + 1], blocks(rightCount[b + 1])));
+            const __m128 splitCost =
+                _mm_add_ps(_mm_set1_ps(BVHBase::kTraversalCost), _mm_mul_ps(costScale, sides));
+            // A boundary with nothing on one side is no split.
+            const __m128 oneSided =
+                _mm_castsi128_ps(_mm_or_si128(_mm_cmpeq_epi32(accumulatedCount, empty),
+                                              _mm_cmpeq_epi32(rightCount[b + 1], empty)));
+            _mm_store_ps(cost[b].data(), _mm_or_ps(_mm_andnot_ps(oneSided, splitCost),
+                                                   _mm_and_ps(oneSided, _mm_set1_ps(kInfinity))));
+        }
+        best.cost = kInfinity;
         for (int axis = 0; axis < 3; ++axis) {
-            if (scale[axis] == 0.0f)
+            if (!mapping.splits(axis))
                 continue;
-            // Sweep from the right: area and count of everything right of each boundary.
-            std::array<float, BVHBase::kBinCount> rightArea{};
-            std::array<uint32_t, BVHBase::kBinCount> rightCount{};
-            BoundingBox3f accumulated;
-            uint32_t accumulatedCount = 0;
-            for (int b = BVHBase::kBinCount - 1; b > 0; --b) {
-                accumulated.expandBy(bins[axis][b].bounds);
-                accumulatedCount += bins[axis][b].count;
-                rightArea[b] = accumulated.getSurfaceArea();
-                rightCount[b] = accumulatedCount;
-            }
-            // Sweep from the left, splitting between bins b and b + 1.
-            accumulated = BoundingBox3f();
-            accumulatedCount = 0;
-            for (int b = 0; b < BVHBase::kBinCount - 1; ++b) {
-                accumulated.expandBy(bins[axis][b].bounds);
-                accumulatedCount += bins[axis][b].count;
-                if (accumulatedCount == 0 || rightCount[b + 1] == 0)
-                    continue;
-                const float cost = BVHBase::kTraversalCost +
-                                   m_intersectionCost * invArea *
-                                       (accumulated.getSurfaceArea() * blocks(accumulatedCount) +
-                                        rightArea[b + 1] * blocks(rightCount[b + 1]));
-                if (cost < best.cost) {
-                    best.cost = cost;
+            for (int b = 0; b < kBins - 1; ++b)
+                if (cost[b][axis] < best.cost) {
+                    best.cost = cost[b][axis];
                     best.axis = axis;
                     best.bin = b;
                 }
-            }
         }
         if (best.axis < 0)
             return false;
@@ -204,15 +380,8 @@ private:
             return false;
 
         // The children's bounds follow from the bins.
-        for (int b = 0; b < BVHBase::kBinCount; ++b) {
-            const Bin &bin = bins[best.axis][b];
-            if (bin.count == 0)
-                continue;
-            (b <= best.bin ? best.leftBounds : best.rightBounds).expandBy(bin.bounds);
-            (b <= best.bin ? best.leftCentroids : best.rightCentroids).expandBy(bin.centroidBounds);
-        }
-        best.scale = scale[best.axis];
-        best.origin = centroidBounds.min[best.axis];
+        for (int b = 0; b < BVHBase::kBinCount; ++b)
+            (b <= best.bin ? best.leftBounds : best.rightBounds).expand(bins.boxes[best.axis][b]);
         return true;
     }
 
@@ -222,24 +391,49 @@ private:
         const uint32_t blockCount = (count + m_blockSize - 1) / m_blockSize; // ⌈count/block⌉
         return static_cast<float>(blockCount);
     }
-
-    static int binIndex(float centroid, float origin, float scale) {
-        const int b = static_cast<int>(scale * (centroid - origin));
-        return std::clamp(b, 0, BVHBase::kBinCount - 1);
+    /// blocks() of four counts: ⌈n/block⌉ as the truncated quotient of (n + block − 1)/block,
+    /// exact since counts are far below 2^24 and a non-integer quotient is at least 1/block
+    /// above its floor.
+    __m128 blocks(__m128i counts) const {
+        const __m128 block = _mm_set1_ps(static_cast<float>(m_blockSize));
+        const __m128 padded =
+            _mm_add_ps(_mm_cvtepi32_ps(counts), _mm_set1_ps(static_cast<float>(m_blockSize - 1)));
+        return _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_div_ps(padded, block)));
     }
 
-    /// Moves the primitives of bins [0, split.bin] to the front; returns their count.
-    uint32_t partition(uint32_t first, uint32_t count, const Split &split) {
-        auto begin = m_refs.begin() + first;
-        auto middle = std::partition(begin, begin + count, [&](const PrimitiveRef &ref) {
-            return binIndex(ref.centroid[split.axis], split.origin, split.scale) <= split.bin;
-        });
-        return static_cast<uint32_t>(middle - begin);
+    /// Moves the primitives of bins [0, split.bin] to the front and returns their count;
+    /// on the way, bounds the doubled centroids of each side.
+    uint32_t partition(uint32_t first, uint32_t count, const Split &split,
+                       const BinMapping &mapping, SimdBox &leftCentroids, SimdBox &rightCentroids) {
+        // Bin ⌊x⌋ <= b exactly when x < b + 1.
+        const __m128 limit = _mm_set1_ps(static_cast<float>(split.bin + 1));
+        const int axisBit = 1 << split.axis;
+        auto goesLeft = [&](__m128 centroid2) {
+            return (_mm_movemask_ps(_mm_cmplt_ps(mapping.coordinates(centroid2), limit)) &
+                    axisBit) != 0;
+        };
+        // Branch-free (Lomuto's scheme): every primitive is swapped with the first one
+        // not yet known to go left, and that boundary moves on past a left primitive. The
+        // sides are about equally likely, so a branch on them would be mispredicted often.
+        PrimitiveRef *const begin = m_refs.data() + first, *const end = begin + count;
+        PrimitiveRef *boundary = begin;
+        for (PrimitiveRef *ref = begin; ref != end; ++ref) {
+            const PrimitiveRef moved = *ref;
+            const bool left = goesLeft(moved.centroid2());
+            *ref = *boundary;
+            *boundary = moved;
+            boundary += left ? 1 : 0;
+        }
+        for (const PrimitiveRef *ref = begin; ref != boundary; ++ref)
+            leftCentroids.expand(ref->centroid2());
+        for (const PrimitiveRef *ref = boundary; ref != end; ++ref)
+            rightCentroids.expand(ref->centroid2());
+        return static_cast<uint32_t>(boundary - begin);
     }
 
     std::vector<PrimitiveRef> &m_refs;
-    std::vector<BuildNode> m_nodes;
-    std::atomic<uint32_t> m_nextNode{0};
+    std::unique_ptr<BuildNode[]> m_nodes;
+    std::atomic<uint32_t> m_nextNode{0}, m_leafCount{0};
     float m_intersectionCost;
     uint32_t m_blockSize;
 };
@@ -254,29 +448,48 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
     m_bounds = BoundingBox3f();
     m_statistics = BVHBuildStatistics();
 
-    // Primitives with empty or non-finite bounds (NaN vertices, ...) cannot be placed.
-    std::vector<PrimitiveRef> refs;
-    refs.reserve(bounds.size());
-    for (uint32_t i = 0; i < bounds.size(); ++i) {
-        const BoundingBox3f &box = bounds[i];
-        if (!box.isValid() || !box.min.allFinite() || !box.max.allFinite()) {
-            ++m_statistics.skippedPrimitives;
-            continue;
-        }
-        refs.push_back({box, box.getCenter(), i});
-    }
+    // The references and the root's bounds, in parallel. Primitives with empty or
+    // non-finite bounds (NaN vertices, ...) cannot be placed: they are marked, then dropped.
+    std::vector<PrimitiveRef> refs(bounds.size());
+    struct RootBounds {
+        SimdBox bounds, centroids;
+        size_t skipped = 0;
+    };
+    const RootBounds root = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, bounds.size(), 16384), RootBounds(),
+        [&](const tbb::blocked_range<size_t> &range, RootBounds partial) {
+            for (size_t i = range.begin(); i != range.end(); ++i) {
+                const BoundingBox3f &box = bounds[i];
+                if (!box.isValid() || !box.min.allFinite() || !box.max.allFinite()) {
+                    refs[i] = PrimitiveRef(BoundingBox3f(), kNoPrimitive);
+                    ++partial.skipped;
+                    continue;
+                }
+                refs[i] = PrimitiveRef(box, static_cast<uint32_t>(i));
+                partial.bounds.expand(refs[i].lower, refs[i].upper);
+                partial.centroids.expand(refs[i].centroid2());
+            }
+            return partial;
+        },
+        [](RootBounds a, const RootBounds &b) {
+            a.bounds.expand(b.bounds);
+            a.centroids.expand(b.centroids);
+            a.skipped += b.skipped;
+            return a;
+        });
+    if (root.skipped > 0)
+        refs.erase(
+            std::remove_if(refs.begin(), refs.end(),
+                           [](const PrimitiveRef &ref) { return ref.index() == kNoPrimitive; }),
+            refs.end());
+    m_statistics.skippedPrimitives = root.skipped;
+    const SimdBox &rootBounds = root.bounds, &rootCentroids = root.centroids;
     m_statistics.primitives = refs.size();
     if (refs.empty())
         return;
-    BoundingBox3f rootBounds, rootCentroids;
-    for (const PrimitiveRef &ref : refs) {
-        rootBounds.expandBy(ref.bounds);
-        rootCentroids.expandBy(ref.centroid);
-    }
-    m_bounds = rootBounds;
+    m_bounds = rootBounds.box();
     Builder builder(refs, intersectionCost, leafAlignment);
     builder.build(0, static_cast<uint32_t>(refs.size()), rootBounds, rootCentroids, 0);
-    const std::vector<BuildNode> &buildNodes = builder.nodes();
 
     // Collapse the binary tree into wide nodes, depth-first: each wide node takes a
     // binary node's two children, then keeps opening the interior child of largest
@@ -285,7 +498,8 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
     // 8-wide nodes less (3.9 children of 8 on nori-bench's mesh against 4.4). Children are
     // stored largest first, the order any-hit traversal visits them in.
     m_nodes.reserve(builder.nodeCount() / 2 + 1);
-    const float rootArea = rootBounds.getSurfaceArea();
+    m_primitiveOrder.reserve(refs.size() + builder.leafCount() * (leafAlignment - 1));
+    const float rootArea = m_bounds.getSurfaceArea();
     auto relativeArea = [&](const BoundingBox3f &box) {
         return rootArea > 0.0f ? box.getSurfaceArea() / rootArea : 1.0f;
     };
@@ -299,38 +513,38 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
                                 refs.size(), static_cast<size_t>(BVHReference::kSlotMask) + 1);
         m_primitiveOrder.resize(first, kNoPrimitive);
         for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
-            m_primitiveOrder.push_back(refs[i].index);
+            m_primitiveOrder.push_back(refs[i].index());
         ++m_statistics.leaves;
         const uint32_t blockCount = (leaf.count + leafAlignment - 1) / leafAlignment;
         m_statistics.sahCost +=
-            relativeArea(leaf.bounds) * intersectionCost * static_cast<float>(blockCount);
+            relativeArea(leaf.bounds()) * intersectionCost * static_cast<float>(blockCount);
         return BVHReference::makeLeaf(static_cast<uint32_t>(first), leaf.count);
     };
     auto collapse = [&](auto &&self, uint32_t buildIndex, size_t depth) -> uint32_t {
         m_statistics.maxDepth = std::max(m_statistics.maxDepth, depth);
         std::array<uint32_t, Width> children{};
         int childCount = 0;
-        const BuildNode &top = buildNodes[buildIndex];
+        const BuildNode &top = builder.node(buildIndex);
         if (top.leaf) { // a root that is a leaf
             children[childCount++] = buildIndex;
         } else {
             children[childCount++] = top.children[0];
             children[childCount++] = top.children[1];
         }
-        auto area = [&](uint32_t index) { return buildNodes[index].bounds.getSurfaceArea(); };
+        auto area = [&](uint32_t index) { return builder.node(index).bounds().getSurfaceArea(); };
         // A subtree's share of the SAH cost: how often rays enter it times what it holds.
         auto cost = [&](uint32_t index) {
-            return area(index) * static_cast<float>(buildNodes[index].count);
+            return area(index) * static_cast<float>(builder.node(index).count);
         };
         while (childCount < Width) {
             int costliest = -1;
             for (int i = 0; i < childCount; ++i)
-                if (!buildNodes[children[i]].leaf &&
+                if (!builder.node(children[i]).leaf &&
                     (costliest < 0 || cost(children[i]) > cost(children[costliest])))
                     costliest = i;
             if (costliest < 0)
                 break;
-            const BuildNode &opened = buildNodes[children[costliest]];
+            const BuildNode &opened = builder.node(children[costliest]);
             children[costliest] = opened.children[0];
             children[childCount++] = opened.children[1];
         }
@@ -339,13 +553,13 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
 
         const auto nodeIndex = static_cast<uint32_t>(m_nodes.size());
         m_nodes.emplace_back();
-        m_statistics.sahCost += relativeArea(top.bounds) * kTraversalCost;
+        m_statistics.sahCost += relativeArea(top.bounds()) * kTraversalCost;
         for (int i = 0; i < Width; ++i) {
             BoundingBox3f box; // empty: min +inf, max -inf
             uint32_t reference = BVHReference::makeLeaf(0, 0);
             if (i < childCount) {
-                const BuildNode &child = buildNodes[children[i]];
-                box = child.bounds;
+                const BuildNode &child = builder.node(children[i]);
+                box = child.bounds();
                 reference = child.leaf ? leafReference(child) : self(self, children[i], depth + 1);
             }
             Node &node = m_nodes[nodeIndex]; // after the recursion, which may reallocate
