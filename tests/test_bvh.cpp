@@ -1,4 +1,4 @@
-// The BVH against a brute-force loop: the same closest hit (t and triangle) for random
+// The BVH against a brute-force loop: the same closest hit (t, triangle and hit point) for random
 // and degenerate meshes and rays; watertightness; no self-intersection; bad input.
 #include <nori/accel.h>
 #include <nori/mesh.h>
@@ -30,6 +30,7 @@ struct Hit {
     float t = 0.0f;
     const Shape *shape = nullptr;
     uint32_t primIndex = 0;
+    Point3f p = Point3f::Zero(); ///< from the hit's barycentrics
 };
 
 /// The reference: every primitive of every shape, closest t, ties to the lower index.
@@ -40,7 +41,10 @@ Hit bruteForce(const std::vector<std::shared_ptr<Shape>> &shapes, const Ray3f &r
             float t;
             Point2f coords;
             if (shape->rayIntersect(i, ray, t, coords) && (!best.found || t < best.t)) {
-                best = {true, t, shape.get(), i};
+                Intersection its;
+                its.t = t;
+                shape->setHitInformation(i, ray, coords, its);
+                best = {true, t, shape.get(), i, its.p};
             }
         }
     return best;
@@ -50,7 +54,7 @@ Hit accelerated(const Accel &accel, const Ray3f &ray) {
     Intersection its;
     if (!accel.rayIntersect(ray, its, false))
         return {};
-    return {true, its.t, its.shape, its.primIndex};
+    return {true, its.t, its.shape, its.primIndex, its.p};
 }
 
 Accel buildAccel(const std::vector<std::shared_ptr<Shape>> &shapes) {
@@ -100,7 +104,8 @@ int compareOnRays(const std::vector<std::shared_ptr<Shape>> &shapes,
         const bool same =
             expected.found == actual.found &&
             (!expected.found || (expected.t == actual.t && expected.shape == actual.shape &&
-                                 expected.primIndex == actual.primIndex));
+                                 expected.primIndex == actual.primIndex &&
+                                 expected.p == actual.p));
         Intersection unused;
         const bool occluded = accel.rayIntersect(ray, unused, true);
         if (!same || occluded != expected.found) {

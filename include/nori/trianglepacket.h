@@ -1,12 +1,11 @@
-// Four triangles tested against one ray at once with SSE: the first half of the
-// watertight test (triangle.h; Woop, Benthin and Wald, JCGT 2013) — shear into ray space,
-// edge functions, the sign test and the t range — computed with the same floating-point
-// operations in the same order as the scalar test, lane by lane. It keeps every
-// triangle the scalar test could accept (a lane whose edge function is zero goes on,
-// since the scalar test re-decides it in double) and rejects the rest; the few that pass
-// are confirmed by the scalar test, which alone sets t and the barycentrics. Hits are
-// therefore bit-identical to the scalar test's. This needs the compiler to keep each
-// operation as written: the project builds with -ffp-contract=off (no fused a·b + c).
+// Four triangles tested against one ray at once with SSE: the whole watertight test
+// (triangle.h; Woop, Benthin and Wald, JCGT 2013) — shear into ray space, edge functions,
+// the sign test, the t range, the division and PBR 4th ed.'s t > 0 error bound — computed
+// with the same floating-point operations in the same order as the scalar test, lane by
+// lane, so a lane's t and barycentrics equal the scalar test's bit for bit. A lane whose
+// edge function is zero is left undecided, since the scalar test re-evaluates it in
+// double. This needs the compiler to keep each operation as written: the project builds
+// with -ffp-contract=off (no fused a·b + c).
 #pragma once
 
 #include <nori/triangle.h>
@@ -42,6 +41,13 @@ struct alignas(16) TrianglePacket {
     }
 };
 
+/// What the packet test finds for its four lanes.
+struct PacketHits {
+    int hit;       ///< bit i: triangle i is hit within [mint, maxt], at t[i]
+    int undecided; ///< bit i: an edge function is zero; the scalar test decides in double
+    alignas(16) float t[4], b1[4], b2[4];
+};
+
 /// A WatertightRay's permutation and shear, broadcast to four lanes.
 struct WatertightRay4 {
     const WatertightRay &ray;
@@ -52,10 +58,11 @@ struct WatertightRay4 {
           oz(_mm_set1_ps(r.o[r.kz])), sx(_mm_set1_ps(r.sx)), sy(_mm_set1_ps(r.sy)),
           sz(_mm_set1_ps(r.sz)) {}
 
-    /// Bit i set: the scalar test may hit triangle i of the packet with t <= tCull.
-    /// Triangles it would reject beyond tCull are culled with a margin of 1e-5 relative
-    /// (rounding of t·det, a few ulps), so the scalar test decides ties with tCull.
-    int candidates(const TrianglePacket &packet, float tCull) const {
+    /// The watertight test on the packet's four triangles, with the scalar test's
+    /// operations in its order, lane by lane: a hit lane's t and barycentrics equal the
+    /// scalar test's bit for bit. A lane with a zero edge function is left undecided: the
+    /// scalar test re-evaluates it in double.
+    PacketHits intersect(const TrianglePacket &packet) const {
         __m128 x[3], y[3], z[3];
         for (int i = 0; i < 3; ++i) {
             // As in intersectTriangle: a = p0 − o, then ax = a[kx] + sx·a[kz], ...
@@ -76,21 +83,58 @@ struct WatertightRay4 {
         const __m128 anyZero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(e0, zero), _mm_cmpeq_ps(e1, zero)),
                                          _mm_cmpeq_ps(e2, zero));
         const __m128 det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
-        const __m128 tScaled = _mm_add_ps(
-            _mm_add_ps(_mm_mul_ps(e0, _mm_mul_ps(sz, z[0])), _mm_mul_ps(e1, _mm_mul_ps(sz, z[1]))),
-            _mm_mul_ps(e2, _mm_mul_ps(sz, z[2])));
-        // With the sign of det moved onto tScaled (exact): 0 < t·|det| <= tCull·|det|.
+        const __m128 sAz = _mm_mul_ps(sz, z[0]), sBz = _mm_mul_ps(sz, z[1]),
+                     sCz = _mm_mul_ps(sz, z[2]);
+        const __m128 tScaled =
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, sAz), _mm_mul_ps(e1, sBz)), _mm_mul_ps(e2, sCz));
+        // The range test 0 < t <= maxt before the division, with the sign of det moved onto
+        // tScaled (exact): 0 < tScaled·sign(det) <= maxt·|det|.
         const __m128 signBit = _mm_set1_ps(-0.0f);
-        const __m128 detSign = _mm_and_ps(det, signBit);
-        const __m128 tSigned = _mm_xor_ps(tScaled, detSign);
+        const __m128 tSigned = _mm_xor_ps(tScaled, _mm_and_ps(det, signBit));
         const __m128 detAbs = _mm_andnot_ps(signBit, det);
-        const __m128 bound = _mm_mul_ps(_mm_set1_ps(tCull * (1.0f + 1e-5f)), detAbs);
-        // A denormal |det| has no relative precision: such a lane goes on.
-        const __m128 tiny = _mm_cmplt_ps(detAbs, _mm_set1_ps(std::numeric_limits<float>::min()));
-        const __m128 inRange =
-            _mm_and_ps(_mm_cmpgt_ps(tSigned, zero), _mm_or_ps(_mm_cmple_ps(tSigned, bound), tiny));
-        const __m128 sameSign = _mm_andnot_ps(_mm_and_ps(anyNegative, anyPositive), inRange);
-        return _mm_movemask_ps(_mm_or_ps(_mm_and_ps(sameSign, _mm_cmpneq_ps(det, zero)), anyZero));
+        const __m128 maxt = _mm_set1_ps(ray.maxt);
+        __m128 accept = _mm_andnot_ps(_mm_and_ps(anyNegative, anyPositive),
+                                      _mm_cmplt_ps(detAbs, _mm_set1_ps(kInfinity))); // finite
+        accept = _mm_and_ps(accept, _mm_cmpneq_ps(det, zero));
+        accept = _mm_and_ps(accept, _mm_cmpgt_ps(tSigned, zero));
+        accept = _mm_and_ps(accept, _mm_cmple_ps(tSigned, _mm_mul_ps(maxt, detAbs)));
+
+        const __m128 invDet = _mm_div_ps(_mm_set1_ps(1.0f), det);
+        const __m128 tHit = _mm_mul_ps(tScaled, invDet);
+        // The conservative bound on t's error (PBR 4th ed. §6.8.7), as in the scalar test.
+        auto absMax = [&](__m128 a, __m128 b, __m128 c) {
+            return _mm_max_ps(_mm_max_ps(_mm_andnot_ps(signBit, a), _mm_andnot_ps(signBit, b)),
+                              _mm_andnot_ps(signBit, c));
+        };
+        const __m128 maxZt = absMax(sAz, sBz, sCz);
+        const __m128 maxXt = absMax(x[0], x[1], x[2]);
+        const __m128 maxYt = absMax(y[0], y[1], y[2]);
+        const __m128 deltaZ = _mm_mul_ps(_mm_set1_ps(gammaBound(3)), maxZt);
+        const __m128 deltaX = _mm_mul_ps(_mm_set1_ps(gammaBound(5)), _mm_add_ps(maxXt, maxZt));
+        const __m128 deltaY = _mm_mul_ps(_mm_set1_ps(gammaBound(5)), _mm_add_ps(maxYt, maxZt));
+        const __m128 deltaE = _mm_mul_ps(
+            _mm_set1_ps(2.0f),
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gammaBound(2)), maxXt), maxYt),
+                                  _mm_mul_ps(deltaY, maxXt)),
+                       _mm_mul_ps(deltaX, maxYt)));
+        const __m128 maxE = absMax(e0, e1, e2);
+        const __m128 errorSum =
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gammaBound(3)), maxE), maxZt),
+                                  _mm_mul_ps(deltaE, maxZt)),
+                       _mm_mul_ps(deltaZ, maxE));
+        const __m128 deltaT =
+            _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(3.0f), errorSum), _mm_andnot_ps(signBit, invDet));
+        accept = _mm_and_ps(accept, _mm_cmpgt_ps(tHit, deltaT));
+        accept = _mm_and_ps(accept, _mm_cmpge_ps(tHit, _mm_set1_ps(ray.mint)));
+        accept = _mm_and_ps(accept, _mm_cmple_ps(tHit, maxt));
+
+        PacketHits hits;
+        hits.undecided = _mm_movemask_ps(anyZero);
+        hits.hit = _mm_movemask_ps(accept) & ~hits.undecided;
+        _mm_store_ps(hits.t, tHit);
+        _mm_store_ps(hits.b1, _mm_mul_ps(e1, invDet));
+        _mm_store_ps(hits.b2, _mm_mul_ps(e2, invDet));
+        return hits;
     }
 };
 

@@ -144,39 +144,47 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
         Point2f bestCoords;
         // Each primitive is tested against the ray's full segment, and the closest hit is
         // kept (ties to the lower id); the BVH uses its distance to cull nodes. The packet
-        // test only passes on the triangles the scalar test may hit before tBest.
+        // test decides the triangles; the few it leaves undecided, and other shapes, are
+        // tested one by one.
         auto intersectLeaf = [&](uint32_t first, uint32_t count, float &tLimit) {
             bool hitInLeaf = false;
+            auto consider = [&](uint32_t slot, float t, const Point2f &coords) {
+                if (found && (t > tBest || (t == tBest && m_ids[bestSlot] < m_ids[slot])))
+                    return false;
+                found = hitInLeaf = true;
+                bestSlot = slot;
+                tBest = tLimit = t;
+                bestCoords = coords;
+                return true;
+            };
             for (uint32_t base = first; base < first + count; base += TrianglePacket::kWidth) {
                 const TrianglePacket &packet = m_packets[base / TrianglePacket::kWidth];
                 const uint32_t lanes =
                     std::min<uint32_t>(TrianglePacket::kWidth, first + count - base);
                 const int inLeaf = (1 << lanes) - 1;
                 const int triangles = packet.triangleLanes() & inLeaf;
-                int pending =
-                    (packetRay.candidates(packet, tBest) & triangles) | (inLeaf & ~triangles);
-                while (pending != 0) {
+                const PacketHits hits = packetRay.intersect(packet);
+                for (int pending = hits.hit & triangles; pending != 0; pending &= pending - 1) {
                     const int lane = __builtin_ctz(static_cast<unsigned>(pending));
-                    pending &= pending - 1;
+                    if (consider(base + lane, hits.t[lane],
+                                 Point2f(hits.b1[lane], hits.b2[lane])) &&
+                        anyHit)
+                        return true;
+                }
+                for (int pending = (hits.undecided & triangles) | (inLeaf & ~triangles);
+                     pending != 0; pending &= pending - 1) {
+                    const int lane = __builtin_ctz(static_cast<unsigned>(pending));
                     const uint32_t slot = base + lane;
                     float t;
                     Point2f coords;
-                    if ((triangles >> lane) & 1) {
-                        if (!intersectTriangle(watertightRay, packet.vertex(lane, 0),
-                                               packet.vertex(lane, 1), packet.vertex(lane, 2), t,
-                                               coords.x(), coords.y()))
-                            continue;
-                    } else if (!m_shapes[m_ids[slot].shapeIndex]->rayIntersect(
-                                   m_ids[slot].primIndex, ray, t, coords)) {
-                        continue;
-                    }
-                    if (found && (t > tBest || (t == tBest && m_ids[bestSlot] < m_ids[slot])))
-                        continue;
-                    found = hitInLeaf = true;
-                    bestSlot = slot;
-                    tBest = tLimit = t;
-                    bestCoords = coords;
-                    if (anyHit)
+                    const bool hit =
+                        (triangles >> lane) & 1
+                            ? intersectTriangle(watertightRay, packet.vertex(lane, 0),
+                                                packet.vertex(lane, 1), packet.vertex(lane, 2), t,
+                                                coords.x(), coords.y())
+                            : m_shapes[m_ids[slot].shapeIndex]->rayIntersect(m_ids[slot].primIndex,
+                                                                             ray, t, coords);
+                    if (hit && consider(slot, t, coords) && anyHit)
                         return true;
                 }
             }

@@ -554,21 +554,29 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
         const auto nodeIndex = static_cast<uint32_t>(m_nodes.size());
         m_nodes.emplace_back();
         m_statistics.sahCost += relativeArea(top.bounds()) * kTraversalCost;
-        for (int i = 0; i < Width; ++i) {
-            BoundingBox3f box; // empty: min +inf, max -inf
-            uint32_t reference = BVHReference::makeLeaf(0, 0);
-            if (i < childCount) {
-                const BuildNode &child = builder.node(children[i]);
-                box = child.bounds();
-                reference = child.leaf ? leafReference(child) : self(self, children[i], depth + 1);
+        // The leaf children first, so that a node's leaves lie side by side in leaf order
+        // (a ray that enters several of them reads one stretch of memory), then the
+        // subtrees.
+        for (const bool leaves : {true, false})
+            for (int i = 0; i < Width; ++i) {
+                BoundingBox3f box; // empty: min +inf, max -inf
+                uint32_t reference = BVHReference::makeLeaf(0, 0);
+                if (i < childCount) {
+                    const BuildNode &child = builder.node(children[i]);
+                    if (child.leaf != leaves)
+                        continue;
+                    box = child.bounds();
+                    reference = leaves ? leafReference(child) : self(self, children[i], depth + 1);
+                } else if (!leaves) {
+                    continue;
+                }
+                Node &node = m_nodes[nodeIndex]; // after the recursion, which may reallocate
+                for (int axis = 0; axis < 3; ++axis) {
+                    node.bounds[axis][0][i] = box.min[axis];
+                    node.bounds[axis][1][i] = box.max[axis];
+                }
+                node.child[i] = reference;
             }
-            Node &node = m_nodes[nodeIndex]; // after the recursion, which may reallocate
-            for (int axis = 0; axis < 3; ++axis) {
-                node.bounds[axis][0][i] = box.min[axis];
-                node.bounds[axis][1][i] = box.max[axis];
-            }
-            node.child[i] = reference;
-        }
         return nodeIndex;
     };
     collapse(collapse, 0, 1);
