@@ -104,8 +104,7 @@ int compareOnRays(const std::vector<std::shared_ptr<Shape>> &shapes,
         const bool same =
             expected.found == actual.found &&
             (!expected.found || (expected.t == actual.t && expected.shape == actual.shape &&
-                                 expected.primIndex == actual.primIndex &&
-                                 expected.p == actual.p));
+                                 expected.primIndex == actual.primIndex && expected.p == actual.p));
         Intersection unused;
         const bool occluded = accel.rayIntersect(ray, unused, true);
         if (!same || occluded != expected.found) {
