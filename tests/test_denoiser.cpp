@@ -116,7 +116,7 @@ bool finiteAndNonNegative(const Bitmap &image) {
 } // namespace
 
 // The issue's goal: relMSE of the denoised 16-spp image at most 1/8 of the noisy one's.
-// Measured with seed 1: 12.6x (nori-bench-denoiser prints it with 4 and 64 spp).
+// Measured with seed 1: 13.9x (nori-bench-denoiser prints it with 4 and 64 spp).
 TEST_CASE("Denoising the Cornell box at 16 spp cuts the relMSE eightfold", "[denoiser]") {
     const auto [noisy, denoised, blurred] = errorsOn("cbox", 16);
     INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
@@ -126,19 +126,20 @@ TEST_CASE("Denoising the Cornell box at 16 spp cuts the relMSE eightfold", "[den
 }
 
 // NOT the issue's goal of 8x, which this denoiser misses on these two scenes (measured
-// 5.7x on the textured scene and 2.1x on Veach's plates at 16 spp, seed 1): the
-// highlights of smooth plates and the glossy sphere have no feature that explains them.
+// 6.2x on the textured scene and 2.2x on Veach's plates at 16 spp, seed 1): the
+// highlights of smooth plates and the glossy sphere have no feature that explains them,
+// and Veach's smallest light, one pixel wide, is as noisy as the few samples that hit it.
 // These checks hold the measured gains so that a regression shows; the goal stays open.
 TEST_CASE("Denoising the textured and Veach scenes at 16 spp lowers the relMSE", "[denoiser]") {
     {
         const auto [noisy, denoised, blurred] = errorsOn("textured", 16);
         INFO("textured: relMSE noisy " << noisy << ", denoised " << denoised);
-        CHECK(denoised * 5.0 <= noisy);
+        CHECK(denoised * 5.5 <= noisy);
     }
     {
         const auto [noisy, denoised, blurred] = errorsOn("veach", 16);
         INFO("veach: relMSE noisy " << noisy << ", denoised " << denoised);
-        CHECK(denoised * 1.8 <= noisy);
+        CHECK(denoised * 1.9 <= noisy);
     }
 }
 

@@ -5,9 +5,9 @@
 // with the variance-normalised distance of Rousselle et al. 2012 ("Adaptive rendering
 // with non-local means filtering", eq. 4). Each bandwidth gives two candidates, the
 // first-order fit and the plain weighted mean (which cannot overshoot where the features
-// do not explain the colour, as on a glossy highlight); each pixel keeps the candidate
-// that most pixels around it find of least error as estimated by SURE (Rousselle et al.
-// 2012, sec. 4; Li et al. 2012). The colour is divided by the albedo first and multiplied
+// do not explain the colour, as on a glossy highlight); each pixel blends the candidates
+// by the squared share of the pixels around it that find each of least error as
+// estimated by SURE (Rousselle et al. 2012, sec. 4; Li et al. 2012). The colour is divided by the albedo first and multiplied
 // back after, so that texture detail comes from the noise-free albedo (demodulation, as
 // in Zimmer et al. 2015 and SVGF).
 #include <nori/denoiser.h>
@@ -342,8 +342,8 @@ Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
         });
     });
 
-    // Each pixel votes for the candidate of least SURE at it, and takes the candidate
-    // with most votes in a (2·3 + 1)² box: SURE of one pixel is too noisy to choose by,
+    // Each pixel votes for the candidate of least SURE at it, and counts the votes of
+    // the candidates in a (2·3 + 1)² box: SURE of one pixel is too noisy to choose by,
     // and a vote, unlike the box's mean SURE, cannot be swamped by a few neighbours of
     // huge variance (an emitter's edge beside a black background).
     const size_t count = candidates.sure.size();
@@ -359,15 +359,23 @@ Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
     for (Plane &vote : votes)
         vote = boxFilter(vote, kVoteRadius);
 
+    // The candidates are blended by the squares of their vote shares rather than the
+    // winner taken: where two candidates poll alike, a hard choice flips between them
+    // from pixel to pixel and leaves blotches; squaring still favours the majority.
     Bitmap result(image.size());
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            size_t best = 0;
-            for (size_t c = 1; c < count; ++c)
-                if (votes[c](y, x) > votes[best](y, x))
-                    best = c;
+            Eigen::Vector3f blended = Eigen::Vector3f::Zero();
+            float totalWeight = 0.0f;
+            for (size_t c = 0; c < count; ++c) {
+                const float weight = votes[c](y, x) * votes[c](y, x);
+                totalWeight += weight;
+                for (int k = 0; k < 3; ++k)
+                    blended[k] += weight * candidates.filtered[c][k](y, x);
+            }
+            // Every pixel casts a vote inside its own box, so totalWeight > 0.
             for (int k = 0; k < 3; ++k) {
-                const float value = candidates.filtered[best][k](y, x) * inputs.modulation[k](y, x);
+                const float value = blended[k] / totalWeight * inputs.modulation[k](y, x);
                 result(y, x)[k] = std::isfinite(value) ? std::max(0.0f, value) : 0.0f;
             }
         }
