@@ -11,8 +11,7 @@
 #include <nori/arrayallocator.h>
 #include <nori/bbox.h>
 #include <nori/rayerror.h>
-
-#include <immintrin.h>
+#include <nori/simd.h>
 
 #include <algorithm>
 #include <vector>
@@ -54,38 +53,6 @@ template <int Width> struct alignas(64) BVHNode {
 };
 static_assert(sizeof(BVHNode<4>) == 128 && sizeof(BVHNode<8>) == 256,
               "BVH nodes must fill whole cache lines");
-
-/// The few SIMD operations of the slab test, on four lanes (SSE, every x86-64) or eight
-/// (AVX, when the build targets it).
-template <int Lanes> struct SimdFloats;
-template <> struct SimdFloats<4> {
-    using Type = __m128;
-    static Type broadcast(float value) { return _mm_set1_ps(value); }
-    static Type load(const float *p) { return _mm_load_ps(p); }
-    static void store(float *p, Type a) { _mm_store_ps(p, a); }
-    static Type sub(Type a, Type b) { return _mm_sub_ps(a, b); }
-    static Type mul(Type a, Type b) { return _mm_mul_ps(a, b); }
-    /// For a NaN, max and min return their second operand.
-    static Type max(Type a, Type b) { return _mm_max_ps(a, b); }
-    static Type min(Type a, Type b) { return _mm_min_ps(a, b); }
-    /// Bit i set: a[i] <= b[i] (false for a NaN).
-    static int lessEqual(Type a, Type b) { return _mm_movemask_ps(_mm_cmple_ps(a, b)); }
-};
-#ifdef __AVX__
-template <> struct SimdFloats<8> {
-    using Type = __m256;
-    static Type broadcast(float value) { return _mm256_set1_ps(value); }
-    static Type load(const float *p) { return _mm256_load_ps(p); }
-    static void store(float *p, Type a) { _mm256_store_ps(p, a); }
-    static Type sub(Type a, Type b) { return _mm256_sub_ps(a, b); }
-    static Type mul(Type a, Type b) { return _mm256_mul_ps(a, b); }
-    static Type max(Type a, Type b) { return _mm256_max_ps(a, b); }
-    static Type min(Type a, Type b) { return _mm256_min_ps(a, b); }
-    static int lessEqual(Type a, Type b) {
-        return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ));
-    }
-};
-#endif
 
 /// A ray's slab test against the boxes of a node (PBR 4th ed. §6.1.2): SSE over four
 /// children at a time, or AVX over eight when the build targets it.

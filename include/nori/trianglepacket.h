@@ -1,16 +1,15 @@
-// Four triangles tested against one ray at once with SSE: the whole watertight test
-// (triangle.h; Woop, Benthin and Wald, JCGT 2013) — shear into ray space, edge functions,
-// the sign test, the t range, the division and PBR 4th ed.'s t > 0 error bound — computed
-// with the same floating-point operations in the same order as the scalar test, lane by
-// lane, so a lane's t and barycentrics equal the scalar test's bit for bit. A lane whose
-// edge function is zero is left undecided, since the scalar test re-evaluates it in
-// double. This needs the compiler to keep each operation as written: the project builds
-// with -ffp-contract=off (no fused a·b + c).
+// Triangles tested against one ray four at a time (SSE, one packet) or eight (AVX, two
+// packets): the whole watertight test (triangle.h; Woop, Benthin and Wald, JCGT 2013) —
+// shear into ray space, edge functions, the sign test, the t range, the division and PBR
+// 4th ed.'s t > 0 error bound — computed with the same floating-point operations in the
+// same order as the scalar test, lane by lane, so a lane's t and barycentrics equal the
+// scalar test's bit for bit. A lane whose edge function is zero is left undecided, since
+// the scalar test re-evaluates it in double. This needs the compiler to keep each
+// operation as written: the project builds with -ffp-contract=off (no fused a·b + c).
 #pragma once
 
+#include <nori/simd.h>
 #include <nori/triangle.h>
-
-#include <immintrin.h>
 
 namespace nori {
 
@@ -41,99 +40,115 @@ struct alignas(16) TrianglePacket {
     }
 };
 
-/// What the packet test finds for its four lanes.
-struct PacketHits {
+/// What the packet test finds for its Lanes lanes (lane i of the second packet is lane
+/// 4 + i).
+template <int Lanes> struct PacketHits {
     int hit;       ///< bit i: triangle i is hit within [mint, maxt], at t[i]
     int undecided; ///< bit i: an edge function is zero; the scalar test decides in double
-    alignas(16) float t[4], b1[4], b2[4];
+    alignas(32) float t[Lanes], b1[Lanes], b2[Lanes];
 };
 
-/// A WatertightRay's permutation and shear, broadcast to four lanes.
-struct WatertightRay4 {
+/// A WatertightRay's permutation and shear, broadcast to the lanes of one packet or two.
+template <int Lanes> struct WatertightRayPacket {
+    using Simd = SimdFloats<Lanes>;
+    using Float = typename Simd::Type;
+
     const WatertightRay &ray;
-    __m128 ox, oy, oz, sx, sy, sz;
+    Float ox, oy, oz, sx, sy, sz;
 
-    explicit WatertightRay4(const WatertightRay &r)
-        : ray(r), ox(_mm_set1_ps(r.o[r.kx])), oy(_mm_set1_ps(r.o[r.ky])),
-          oz(_mm_set1_ps(r.o[r.kz])), sx(_mm_set1_ps(r.sx)), sy(_mm_set1_ps(r.sy)),
-          sz(_mm_set1_ps(r.sz)) {}
+    explicit WatertightRayPacket(const WatertightRay &r)
+        : ray(r), ox(Simd::broadcast(r.o[r.kx])), oy(Simd::broadcast(r.o[r.ky])),
+          oz(Simd::broadcast(r.o[r.kz])), sx(Simd::broadcast(r.sx)), sy(Simd::broadcast(r.sy)),
+          sz(Simd::broadcast(r.sz)) {}
 
-    /// The watertight test on the packet's four triangles, with the scalar test's
-    /// operations in its order, lane by lane: a hit lane's t and barycentrics equal the
-    /// scalar test's bit for bit. A lane with a zero edge function is left undecided: the
-    /// scalar test re-evaluates it in double.
-    PacketHits intersect(const TrianglePacket &packet) const {
-        __m128 x[3], y[3], z[3];
+    /// The four triangles of one packet (four lanes).
+    PacketHits<Lanes> intersect(const TrianglePacket &packet) const {
+        static_assert(Lanes == TrianglePacket::kWidth, "one packet fills four lanes");
+        return intersectLanes(
+            [&](int vertex, int axis) { return Simd::load(packet.v[vertex][axis]); });
+    }
+
+#ifdef __AVX__
+    /// The eight triangles of two packets (eight lanes): `first`'s in lanes 0–3.
+    PacketHits<Lanes> intersect(const TrianglePacket &first, const TrianglePacket &second) const {
+        static_assert(Lanes == 2 * TrianglePacket::kWidth, "two packets fill eight lanes");
+        return intersectLanes([&](int vertex, int axis) {
+            return Simd::loadHalves(first.v[vertex][axis], second.v[vertex][axis]);
+        });
+    }
+#endif
+
+private:
+    /// The watertight test, lane by lane, with the scalar test's operations in its
+    /// order; `load(vertex, axis)` gives that coordinate of every lane's triangle.
+    template <typename Load> PacketHits<Lanes> intersectLanes(Load &&load) const {
+        using S = Simd;
+        Float x[3], y[3], z[3];
         for (int i = 0; i < 3; ++i) {
             // As in intersectTriangle: a = p0 − o, then ax = a[kx] + sx·a[kz], ...
-            z[i] = _mm_sub_ps(_mm_load_ps(packet.v[i][ray.kz]), oz);
-            x[i] =
-                _mm_add_ps(_mm_sub_ps(_mm_load_ps(packet.v[i][ray.kx]), ox), _mm_mul_ps(sx, z[i]));
-            y[i] =
-                _mm_add_ps(_mm_sub_ps(_mm_load_ps(packet.v[i][ray.ky]), oy), _mm_mul_ps(sy, z[i]));
+            z[i] = S::sub(load(i, ray.kz), oz);
+            x[i] = S::add(S::sub(load(i, ray.kx), ox), S::mul(sx, z[i]));
+            y[i] = S::add(S::sub(load(i, ray.ky), oy), S::mul(sy, z[i]));
         }
-        const __m128 e0 = _mm_sub_ps(_mm_mul_ps(x[1], y[2]), _mm_mul_ps(y[1], x[2]));
-        const __m128 e1 = _mm_sub_ps(_mm_mul_ps(x[2], y[0]), _mm_mul_ps(y[2], x[0]));
-        const __m128 e2 = _mm_sub_ps(_mm_mul_ps(x[0], y[1]), _mm_mul_ps(y[0], x[1]));
-        const __m128 zero = _mm_setzero_ps();
-        const __m128 anyNegative = _mm_or_ps(
-            _mm_or_ps(_mm_cmplt_ps(e0, zero), _mm_cmplt_ps(e1, zero)), _mm_cmplt_ps(e2, zero));
-        const __m128 anyPositive = _mm_or_ps(
-            _mm_or_ps(_mm_cmpgt_ps(e0, zero), _mm_cmpgt_ps(e1, zero)), _mm_cmpgt_ps(e2, zero));
-        const __m128 anyZero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(e0, zero), _mm_cmpeq_ps(e1, zero)),
-                                         _mm_cmpeq_ps(e2, zero));
-        const __m128 det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
-        const __m128 sAz = _mm_mul_ps(sz, z[0]), sBz = _mm_mul_ps(sz, z[1]),
-                     sCz = _mm_mul_ps(sz, z[2]);
-        const __m128 tScaled =
-            _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, sAz), _mm_mul_ps(e1, sBz)), _mm_mul_ps(e2, sCz));
+        const Float e0 = S::sub(S::mul(x[1], y[2]), S::mul(y[1], x[2]));
+        const Float e1 = S::sub(S::mul(x[2], y[0]), S::mul(y[2], x[0]));
+        const Float e2 = S::sub(S::mul(x[0], y[1]), S::mul(y[0], x[1]));
+        const Float zero = S::zero();
+        const Float anyNegative =
+            S::bitOr(S::bitOr(S::less(e0, zero), S::less(e1, zero)), S::less(e2, zero));
+        const Float anyPositive =
+            S::bitOr(S::bitOr(S::greater(e0, zero), S::greater(e1, zero)), S::greater(e2, zero));
+        const Float anyZero =
+            S::bitOr(S::bitOr(S::equal(e0, zero), S::equal(e1, zero)), S::equal(e2, zero));
+        const Float det = S::add(S::add(e0, e1), e2);
+        const Float sAz = S::mul(sz, z[0]), sBz = S::mul(sz, z[1]), sCz = S::mul(sz, z[2]);
+        const Float tScaled = S::add(S::add(S::mul(e0, sAz), S::mul(e1, sBz)), S::mul(e2, sCz));
         // The range test 0 < t <= maxt before the division, with the sign of det moved onto
         // tScaled (exact): 0 < tScaled·sign(det) <= maxt·|det|.
-        const __m128 signBit = _mm_set1_ps(-0.0f);
-        const __m128 tSigned = _mm_xor_ps(tScaled, _mm_and_ps(det, signBit));
-        const __m128 detAbs = _mm_andnot_ps(signBit, det);
-        const __m128 maxt = _mm_set1_ps(ray.maxt);
-        __m128 accept = _mm_andnot_ps(_mm_and_ps(anyNegative, anyPositive),
-                                      _mm_cmplt_ps(detAbs, _mm_set1_ps(kInfinity))); // finite
-        accept = _mm_and_ps(accept, _mm_cmpneq_ps(det, zero));
-        accept = _mm_and_ps(accept, _mm_cmpgt_ps(tSigned, zero));
-        accept = _mm_and_ps(accept, _mm_cmple_ps(tSigned, _mm_mul_ps(maxt, detAbs)));
+        const Float signBit = S::broadcast(-0.0f);
+        const Float tSigned = S::bitXor(tScaled, S::bitAnd(det, signBit));
+        const Float detAbs = S::andNot(signBit, det);
+        const Float maxt = S::broadcast(ray.maxt);
+        Float accept = S::andNot(S::bitAnd(anyNegative, anyPositive),
+                                 S::less(detAbs, S::broadcast(kInfinity))); // finite
+        accept = S::bitAnd(accept, S::notEqual(det, zero));
+        accept = S::bitAnd(accept, S::greater(tSigned, zero));
+        accept = S::bitAnd(accept, S::lessEqualMask(tSigned, S::mul(maxt, detAbs)));
 
-        const __m128 invDet = _mm_div_ps(_mm_set1_ps(1.0f), det);
-        const __m128 tHit = _mm_mul_ps(tScaled, invDet);
+        const Float invDet = S::div(S::broadcast(1.0f), det);
+        const Float tHit = S::mul(tScaled, invDet);
         // The conservative bound on t's error (PBR 4th ed. §6.8.7), as in the scalar test.
-        auto absMax = [&](__m128 a, __m128 b, __m128 c) {
-            return _mm_max_ps(_mm_max_ps(_mm_andnot_ps(signBit, a), _mm_andnot_ps(signBit, b)),
-                              _mm_andnot_ps(signBit, c));
+        auto absMax = [&](Float a, Float b, Float c) {
+            return S::max(S::max(S::andNot(signBit, a), S::andNot(signBit, b)),
+                          S::andNot(signBit, c));
         };
-        const __m128 maxZt = absMax(sAz, sBz, sCz);
-        const __m128 maxXt = absMax(x[0], x[1], x[2]);
-        const __m128 maxYt = absMax(y[0], y[1], y[2]);
-        const __m128 deltaZ = _mm_mul_ps(_mm_set1_ps(gammaBound(3)), maxZt);
-        const __m128 deltaX = _mm_mul_ps(_mm_set1_ps(gammaBound(5)), _mm_add_ps(maxXt, maxZt));
-        const __m128 deltaY = _mm_mul_ps(_mm_set1_ps(gammaBound(5)), _mm_add_ps(maxYt, maxZt));
-        const __m128 deltaE = _mm_mul_ps(
-            _mm_set1_ps(2.0f),
-            _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gammaBound(2)), maxXt), maxYt),
-                                  _mm_mul_ps(deltaY, maxXt)),
-                       _mm_mul_ps(deltaX, maxYt)));
-        const __m128 maxE = absMax(e0, e1, e2);
-        const __m128 errorSum =
-            _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gammaBound(3)), maxE), maxZt),
-                                  _mm_mul_ps(deltaE, maxZt)),
-                       _mm_mul_ps(deltaZ, maxE));
-        const __m128 deltaT =
-            _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(3.0f), errorSum), _mm_andnot_ps(signBit, invDet));
-        accept = _mm_and_ps(accept, _mm_cmpgt_ps(tHit, deltaT));
-        accept = _mm_and_ps(accept, _mm_cmpge_ps(tHit, _mm_set1_ps(ray.mint)));
-        accept = _mm_and_ps(accept, _mm_cmple_ps(tHit, maxt));
+        const Float maxZt = absMax(sAz, sBz, sCz);
+        const Float maxXt = absMax(x[0], x[1], x[2]);
+        const Float maxYt = absMax(y[0], y[1], y[2]);
+        const Float deltaZ = S::mul(S::broadcast(gammaBound(3)), maxZt);
+        const Float deltaX = S::mul(S::broadcast(gammaBound(5)), S::add(maxXt, maxZt));
+        const Float deltaY = S::mul(S::broadcast(gammaBound(5)), S::add(maxYt, maxZt));
+        const Float deltaE =
+            S::mul(S::broadcast(2.0f),
+                   S::add(S::add(S::mul(S::mul(S::broadcast(gammaBound(2)), maxXt), maxYt),
+                                 S::mul(deltaY, maxXt)),
+                          S::mul(deltaX, maxYt)));
+        const Float maxE = absMax(e0, e1, e2);
+        const Float errorSum = S::add(
+            S::add(S::mul(S::mul(S::broadcast(gammaBound(3)), maxE), maxZt), S::mul(deltaE, maxZt)),
+            S::mul(deltaZ, maxE));
+        const Float deltaT =
+            S::mul(S::mul(S::broadcast(3.0f), errorSum), S::andNot(signBit, invDet));
+        accept = S::bitAnd(accept, S::greater(tHit, deltaT));
+        accept = S::bitAnd(accept, S::greaterEqual(tHit, S::broadcast(ray.mint)));
+        accept = S::bitAnd(accept, S::lessEqualMask(tHit, maxt));
 
-        PacketHits hits;
-        hits.undecided = _mm_movemask_ps(anyZero);
-        hits.hit = _mm_movemask_ps(accept) & ~hits.undecided;
-        _mm_store_ps(hits.t, tHit);
-        _mm_store_ps(hits.b1, _mm_mul_ps(e1, invDet));
-        _mm_store_ps(hits.b2, _mm_mul_ps(e2, invDet));
+        PacketHits<Lanes> hits;
+        hits.undecided = S::bits(anyZero);
+        hits.hit = S::bits(accept) & ~hits.undecided;
+        S::store(hits.t, tHit);
+        S::store(hits.b1, S::mul(e1, invDet));
+        S::store(hits.b2, S::mul(e2, invDet));
         return hits;
     }
 };

@@ -139,7 +139,10 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
 
     if (!m_packets.empty()) {
         const WatertightRay watertightRay(ray);
-        const WatertightRay4 packetRay(watertightRay);
+        const WatertightRayPacket<4> packetRay(watertightRay);
+#ifdef __AVX__
+        const WatertightRayPacket<8> pairRay(watertightRay);
+#endif
         uint32_t bestSlot = 0;
         Point2f bestCoords;
         // Each primitive is tested against the ray's full segment, and the closest hit is
@@ -157,13 +160,15 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
                 bestCoords = coords;
                 return true;
             };
-            for (uint32_t base = first; base < first + count; base += TrianglePacket::kWidth) {
-                const TrianglePacket &packet = m_packets[base / TrianglePacket::kWidth];
-                const uint32_t lanes =
-                    std::min<uint32_t>(TrianglePacket::kWidth, first + count - base);
+            // The lanes of `packets` from slot `base` on: the packet test's hits, then one by
+            // one the lanes it left undecided and those of other shapes. True: stop (any hit).
+            auto resolve = [&](const auto &hits, const TrianglePacket *packets, uint32_t base,
+                               int lanes) {
                 const int inLeaf = (1 << lanes) - 1;
-                const int triangles = packet.triangleLanes() & inLeaf;
-                const PacketHits hits = packetRay.intersect(packet);
+                int triangles = 0;
+                for (int p = 0; p * TrianglePacket::kWidth < lanes; ++p)
+                    triangles |= packets[p].triangleLanes() << (p * TrianglePacket::kWidth);
+                triangles &= inLeaf;
                 for (int pending = hits.hit & triangles; pending != 0; pending &= pending - 1) {
                     const int lane = __builtin_ctz(static_cast<unsigned>(pending));
                     if (consider(base + lane, hits.t[lane],
@@ -175,18 +180,42 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
                      pending != 0; pending &= pending - 1) {
                     const int lane = __builtin_ctz(static_cast<unsigned>(pending));
                     const uint32_t slot = base + lane;
+                    const TrianglePacket &packet = packets[lane / TrianglePacket::kWidth];
+                    const int packetLane = lane % TrianglePacket::kWidth;
                     float t;
                     Point2f coords;
                     const bool hit =
                         (triangles >> lane) & 1
-                            ? intersectTriangle(watertightRay, packet.vertex(lane, 0),
-                                                packet.vertex(lane, 1), packet.vertex(lane, 2), t,
-                                                coords.x(), coords.y())
+                            ? intersectTriangle(watertightRay, packet.vertex(packetLane, 0),
+                                                packet.vertex(packetLane, 1),
+                                                packet.vertex(packetLane, 2), t, coords.x(),
+                                                coords.y())
                             : m_shapes[m_ids[slot].shapeIndex]->rayIntersect(m_ids[slot].primIndex,
                                                                              ray, t, coords);
                     if (hit && consider(slot, t, coords) && anyHit)
                         return true;
                 }
+                return false;
+            };
+            for (uint32_t base = first; base < first + count;) {
+                const TrianglePacket *packets = &m_packets[base / TrianglePacket::kWidth];
+                const uint32_t remaining = first + count - base;
+#ifdef __AVX__
+                // Two packets at once: one eight-lane test costs what a four-lane one does.
+                if (remaining > TrianglePacket::kWidth) {
+                    const int lanes =
+                        static_cast<int>(std::min(2u * TrianglePacket::kWidth, remaining));
+                    if (resolve(pairRay.intersect(packets[0], packets[1]), packets, base, lanes))
+                        return true;
+                    base += 2 * TrianglePacket::kWidth;
+                    continue;
+                }
+#endif
+                const int lanes =
+                    static_cast<int>(std::min<uint32_t>(TrianglePacket::kWidth, remaining));
+                if (resolve(packetRay.intersect(packets[0]), packets, base, lanes))
+                    return true;
+                base += TrianglePacket::kWidth;
             }
             return hitInLeaf;
         };
