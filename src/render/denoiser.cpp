@@ -7,9 +7,9 @@
 // first-order fit and the plain weighted mean (which cannot overshoot where the features
 // do not explain the colour, as on a glossy highlight); each pixel blends the candidates
 // by the squared share of the pixels around it that find each of least error as
-// estimated by SURE (Rousselle et al. 2012, sec. 4; Li et al. 2012). The colour is divided by the albedo first and multiplied
-// back after, so that texture detail comes from the noise-free albedo (demodulation, as
-// in Zimmer et al. 2015 and SVGF).
+// estimated by SURE (Rousselle et al. 2012, sec. 4; Li et al. 2012). The colour is
+// divided by the albedo first and multiplied back after, so that texture detail comes
+// from the noise-free albedo (demodulation, as in Zimmer et al. 2015 and SVGF).
 #include <nori/denoiser.h>
 
 #include <tbb/parallel_for.h>
