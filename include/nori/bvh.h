@@ -1,8 +1,9 @@
 // A bounding volume hierarchy over abstract primitives (given by their bounding boxes):
 // a binary tree built by binned SAH in parallel (Wald, "On fast Construction of SAH-based
 // Bounding Volume Hierarchies", 2007), collapsed into wide nodes (8 children for
-// triangles, 4 for instances) whose boxes one ray tests at once with AVX or SSE (Wald,
-// Benthin and Boulos, "Getting Rid of Packets", 2008),
+// triangles, 4 for instances) at the least SAH cost (Ylitie, Karras and Laine, HPG 2017)
+// whose boxes one ray tests at once with AVX or SSE (Wald, Benthin and Boulos, "Getting
+// Rid of Packets", 2008),
 // traversed nearest child first with an explicit stack (PBR 4th ed. §7.3). What a
 // primitive is stays with the caller, so the same BVH serves triangles, spheres and
 // instances.

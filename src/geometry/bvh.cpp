@@ -299,10 +299,11 @@ private:
     /// boundaries for the lowest SAH cost. Returns false when a leaf is cheaper.
     bool findSahSplit(uint32_t first, uint32_t count, const SimdBox &bounds,
                       const BinMapping &mapping, Split &best) const {
-        // A split costs at least a traversal step, so a leaf that costs no more stays one.
+        // The binary tree goes down to one block (CollapseCosts merges blocks into larger
+        // leaves). A split costs at least a traversal step, so a block that costs no more
+        // stays a leaf.
         const float leafCost = m_intersectionCost * blocks(count);
-        if (count <= 1 || (count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize) &&
-                           leafCost <= BVHBase::kTraversalCost))
+        if (count <= 1 || (count <= m_blockSize && leafCost <= BVHBase::kTraversalCost))
             return false;
         const PrimitiveRef *begin = m_refs.data() + first, *end = begin + count;
         Bins bins;
@@ -376,7 +377,7 @@ private:
         }
         if (best.axis < 0)
             return false;
-        if (best.cost >= leafCost && count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize))
+        if (best.cost >= leafCost && count <= m_blockSize)
             return false;
 
         // The children's bounds follow from the bins.
@@ -438,6 +439,97 @@ private:
     uint32_t m_blockSize;
 };
 
+/// The SAH-optimal collapse of a binary tree into nodes of Width children (Ylitie, Karras
+/// and Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs",
+/// HPG 2017, §3.1). cost(n, i) is the least SAH cost of binary node n's subtree as at most
+/// i children of a wide node: n itself (a leaf, or a wide node whose children cost
+/// cost(left, k) + cost(right, Width − k) at best), or cost(left, k) + cost(right, i − k)
+/// with n's slots split between its children. Children come before their parents in the
+/// binary tree's array, so one backward pass fills the table.
+template <int Width> class CollapseCosts {
+public:
+    CollapseCosts(const Builder &builder, float intersectionCost, uint32_t blockSize)
+        : m_builder(builder), m_entries(builder.nodeCount()) {
+        for (uint32_t index = builder.nodeCount(); index-- > 0;) {
+            const BuildNode &node = builder.node(index);
+            Entry &entry = m_entries[index];
+            const float area = node.bounds().getSurfaceArea();
+            const float leafCost =
+                node.count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize)
+                    ? area * intersectionCost *
+                          static_cast<float>((node.count + blockSize - 1) / blockSize)
+                    : kInfinity;
+            if (node.leaf) {
+                entry.leaf = true;
+                entry.cost.fill(leafCost);
+                entry.split.fill(false);
+                continue;
+            }
+            const Entry &left = m_entries[node.children[0]], &right = m_entries[node.children[1]];
+            std::array<float, Width + 1> split{}; // split[i]: the best split of i slots
+            for (int slots = 2; slots <= Width; ++slots) {
+                split[slots] = kInfinity;
+                for (int k = 1; k < slots; ++k) {
+                    const float cost = left.cost[k - 1] + right.cost[slots - k - 1];
+                    if (cost < split[slots]) {
+                        split[slots] = cost;
+                        entry.leftSlots[slots - 1] = static_cast<uint8_t>(k);
+                    }
+                }
+            }
+            const float nodeCost = area * BVHBase::kTraversalCost + split[Width];
+            entry.leaf = leafCost <= nodeCost;
+            entry.cost[0] = std::min(leafCost, nodeCost);
+            for (int slots = 2; slots <= Width; ++slots) {
+                entry.split[slots - 1] = split[slots] < entry.cost[0];
+                entry.cost[slots - 1] = std::min(entry.cost[0], split[slots]);
+            }
+        }
+    }
+
+    /// Whether binary node `index`, as a child of a wide node, is a leaf.
+    bool isLeaf(uint32_t index) const { return m_entries[index].leaf; }
+
+    /// The children of the wide node made of binary node `index` (not a leaf): their
+    /// count, and their binary nodes in `children`.
+    int children(uint32_t index, std::array<uint32_t, Width> &children) const {
+        int count = 0;
+        if (m_builder.node(index).leaf) { // a root that is a leaf
+            children[count++] = index;
+            return count;
+        }
+        gather(index, Width, true, children, count);
+        return count;
+    }
+
+private:
+    struct Entry {
+        std::array<float, Width> cost; ///< cost[i − 1]: cost(n, i)
+        std::array<uint8_t, Width>
+            leftSlots;                 ///< [i − 1]: the left child's slots in the best split of i
+        std::array<bool, Width> split; ///< [i − 1]: with i slots, splitting beats n itself
+        bool leaf;                     ///< n by itself is a leaf
+    };
+
+    /// Appends the children that binary node `index` becomes with `slots` slots; `open`:
+    /// split it whatever it costs (it is the wide node being made).
+    void gather(uint32_t index, int slots, bool open, std::array<uint32_t, Width> &children,
+                int &count) const {
+        const Entry &entry = m_entries[index];
+        if (!open && (slots == 1 || !entry.split[slots - 1])) {
+            children[count++] = index;
+            return;
+        }
+        const BuildNode &node = m_builder.node(index);
+        const int leftSlots = entry.leftSlots[slots - 1];
+        gather(node.children[0], leftSlots, false, children, count);
+        gather(node.children[1], slots - leftSlots, false, children, count);
+    }
+
+    const Builder &m_builder;
+    std::vector<Entry> m_entries;
+};
+
 } // namespace
 
 template <int Width>
@@ -491,13 +583,11 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
     Builder builder(refs, intersectionCost, leafAlignment);
     builder.build(0, static_cast<uint32_t>(refs.size()), rootBounds, rootCentroids, 0);
 
-    // Collapse the binary tree into wide nodes, depth-first: each wide node takes a
-    // binary node's two children, then keeps opening the interior child of largest
-    // area × primitives (its share of the SAH cost) until it has Width children. Opening by
-    // area alone also opened small subtrees and left large ones as children, filling
-    // 8-wide nodes less (3.9 children of 8 on nori-bench's mesh against 4.4). Children are
-    // stored largest first, the order any-hit traversal visits them in.
-    m_nodes.reserve(builder.nodeCount() / 2 + 1);
+    // Collapse the binary tree into wide nodes, depth-first, in the SAH-optimal way
+    // (CollapseCosts). Children are stored largest first, the order any-hit traversal
+    // visits them in.
+    const CollapseCosts<Width> costs(builder, intersectionCost, leafAlignment);
+    m_nodes.reserve(builder.nodeCount() / 4 + 1);
     m_primitiveOrder.reserve(refs.size() + builder.leafCount() * (leafAlignment - 1));
     const float rootArea = m_bounds.getSurfaceArea();
     auto relativeArea = [&](const BoundingBox3f &box) {
@@ -523,37 +613,14 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
     auto collapse = [&](auto &&self, uint32_t buildIndex, size_t depth) -> uint32_t {
         m_statistics.maxDepth = std::max(m_statistics.maxDepth, depth);
         std::array<uint32_t, Width> children{};
-        int childCount = 0;
-        const BuildNode &top = builder.node(buildIndex);
-        if (top.leaf) { // a root that is a leaf
-            children[childCount++] = buildIndex;
-        } else {
-            children[childCount++] = top.children[0];
-            children[childCount++] = top.children[1];
-        }
+        const int childCount = costs.children(buildIndex, children);
         auto area = [&](uint32_t index) { return builder.node(index).bounds().getSurfaceArea(); };
-        // A subtree's share of the SAH cost: how often rays enter it times what it holds.
-        auto cost = [&](uint32_t index) {
-            return area(index) * static_cast<float>(builder.node(index).count);
-        };
-        while (childCount < Width) {
-            int costliest = -1;
-            for (int i = 0; i < childCount; ++i)
-                if (!builder.node(children[i]).leaf &&
-                    (costliest < 0 || cost(children[i]) > cost(children[costliest])))
-                    costliest = i;
-            if (costliest < 0)
-                break;
-            const BuildNode &opened = builder.node(children[costliest]);
-            children[costliest] = opened.children[0];
-            children[childCount++] = opened.children[1];
-        }
         std::stable_sort(children.begin(), children.begin() + childCount,
                          [&](uint32_t a, uint32_t b) { return area(a) > area(b); });
 
         const auto nodeIndex = static_cast<uint32_t>(m_nodes.size());
         m_nodes.emplace_back();
-        m_statistics.sahCost += relativeArea(top.bounds()) * kTraversalCost;
+        m_statistics.sahCost += relativeArea(builder.node(buildIndex).bounds()) * kTraversalCost;
         // The leaf children first, so that a node's leaves lie side by side in leaf order
         // (a ray that enters several of them reads one stretch of memory), then the
         // subtrees.
@@ -563,7 +630,7 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
                 uint32_t reference = BVHReference::makeLeaf(0, 0);
                 if (i < childCount) {
                     const BuildNode &child = builder.node(children[i]);
-                    if (child.leaf != leaves)
+                    if (costs.isLeaf(children[i]) != leaves)
                         continue;
                     box = child.bounds();
                     reference = leaves ? leafReference(child) : self(self, children[i], depth + 1);
