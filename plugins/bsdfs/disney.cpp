@@ -86,8 +86,8 @@ template <typename T> T mix(const T &a, const T &b, float t) {
 /// The Smith shadowing of the clear coat: GGX with α = 0.25 (Burley's smithG_GGX(·, .25)).
 const MicrofacetDistribution kClearcoatShadowing(MicrofacetDistribution::Type::GGX, 0.25f);
 
-enum Lobe { Diffuse, Sheen, Specular, Clearcoat, LobeCount };
-const std::array<const char *, LobeCount> kLobeNames = {"diffuse", "sheen", "specular",
+enum Lobe { kDiffuseLobe, kSheenLobe, kSpecularLobe, kClearcoatLobe, kLobeCount };
+const std::array<const char *, kLobeCount> kLobeNames = {"diffuse", "sheen", "specular",
                                                         "clearcoat"};
 
 } // namespace
@@ -163,7 +163,7 @@ public:
 
     std::string toString() const override {
         std::string lobes;
-        for (int lobe = 0; lobe < LobeCount; ++lobe)
+        for (int lobe = 0; lobe < kLobeCount; ++lobe)
             if (m_enabled[lobe])
                 lobes += (lobes.empty() ? "" : "+") + std::string(kLobeNames[lobe]);
         return fmt::format(
@@ -193,7 +193,7 @@ private:
         const float cosD = h.dot(bRec.wi); // θd, the angle of either direction to h
         const float FH = schlickWeight(cosD);
         Color3f f(0.0f);
-        if (m_enabled[Diffuse]) {
+        if (m_enabled[kDiffuseLobe]) {
             // Burley 2012, §5.3: retro-reflection through Fd90, and the subsurface
             // flattening Fss with its 1/(cos θi + cos θo) − 1/2 volume term.
             const float FI = schlickWeight(cosI), FO = schlickWeight(cosO);
@@ -204,14 +204,14 @@ private:
             const float ss = 1.25f * (Fss * (1.0f / (cosI + cosO) - 0.5f) + 0.5f);
             f += mat.baseColor * (kInvPi * mix(Fd, ss, mat.subsurface) * (1.0f - mat.metallic));
         }
-        if (m_enabled[Sheen])
+        if (m_enabled[kSheenLobe])
             f += mat.sheenColor * (FH * mat.sheen * (1.0f - mat.metallic));
-        if (m_enabled[Specular]) {
+        if (m_enabled[kSpecularLobe]) {
             const Color3f F = mix(mat.specularColor, Color3f(1.0f), FH);
             f += F * (mat.specularLobe.D(h) * mat.specularLobe.G(bRec.wi, bRec.wo, h) /
                       (4.0f * cosI * cosO));
         }
-        if (m_enabled[Clearcoat] && mat.clearcoat > 0.0f) {
+        if (m_enabled[kClearcoatLobe] && mat.clearcoat > 0.0f) {
             const float D = Warp::squareToGTR1Pdf(h, mat.clearcoatAlpha) / h.z();
             const float F = mix(0.04f, 1.0f, FH);
             f += Color3f(0.25f * mat.clearcoat * D * F *
@@ -255,8 +255,8 @@ private:
                                                   std::max(0.001f, r2 * aspect));
         const float clearcoat = unit(m_clearcoat);
         std::array<float, 3> weights = {
-            m_enabled[Diffuse] || m_enabled[Sheen] ? 1.0f - metallic : 0.0f,
-            m_enabled[Specular] ? 1.0f : 0.0f, m_enabled[Clearcoat] ? 0.25f * clearcoat : 0.0f};
+            m_enabled[kDiffuseLobe] || m_enabled[kSheenLobe] ? 1.0f - metallic : 0.0f,
+            m_enabled[kSpecularLobe] ? 1.0f : 0.0f, m_enabled[kClearcoatLobe] ? 0.25f * clearcoat : 0.0f};
         const float total = weights[0] + weights[1] + weights[2];
         for (float &w : weights)
             w = total > 0.0f ? w / total : 0.0f;
@@ -295,7 +295,7 @@ private:
     std::shared_ptr<const Texture> m_baseColor, m_metallic, m_subsurface, m_specular,
         m_specularTint, m_roughness, m_anisotropic, m_sheen, m_sheenTint, m_clearcoat,
         m_clearcoatGloss;
-    std::array<bool, LobeCount> m_enabled{};
+    std::array<bool, kLobeCount> m_enabled{};
 };
 
 NORI_REGISTER_CLASS(Disney, "disney");
