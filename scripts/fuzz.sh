@@ -22,7 +22,7 @@ done
 # -O1 as libFuzzer's documentation advises; line tables only, which is all the sanitizers'
 # stack traces need and builds faster than full debug information; assertions on (no NDEBUG).
 cmake -S "$here" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
-    -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DNORI_FUZZ=ON -DNORI_BUILD_TESTS=OFF \
+    -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DNORI_FUZZ=ON -DNORI_BUILD_TESTS=OFF -DNORI_PCH=ON \
     > "$build.configure.log" 2>&1 ||
     { cat "$build.configure.log"; exit 1; }
 cmake --build "$build" -j"$(nproc)" --target $(printf 'nori-fuzz-%s ' "${targets[@]}")

@@ -454,11 +454,10 @@ public:
             const BuildNode &node = builder.node(index);
             Entry &entry = m_entries[index];
             const float area = node.bounds().getSurfaceArea();
-            const float leafCost =
-                node.count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize)
-                    ? area * intersectionCost *
-                          static_cast<float>((node.count + blockSize - 1) / blockSize)
-                    : kInfinity;
+            const uint32_t blocks = (node.count + blockSize - 1) / blockSize; // ⌈count/block⌉
+            const float leafCost = node.count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize)
+                                       ? area * intersectionCost * static_cast<float>(blocks)
+                                       : kInfinity;
             if (node.leaf) {
                 entry.leaf = true;
                 entry.cost.fill(leafCost);
@@ -588,7 +587,8 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
     // visits them in.
     const CollapseCosts<Width> costs(builder, intersectionCost, leafAlignment);
     m_nodes.reserve(builder.nodeCount() / 4 + 1);
-    m_primitiveOrder.reserve(refs.size() + builder.leafCount() * (leafAlignment - 1));
+    m_primitiveOrder.reserve(refs.size() +
+                             static_cast<size_t>(builder.leafCount()) * (leafAlignment - 1));
     const float rootArea = m_bounds.getSurfaceArea();
     auto relativeArea = [&](const BoundingBox3f &box) {
         return rootArea > 0.0f ? box.getSurfaceArea() / rootArea : 1.0f;
