@@ -88,7 +88,7 @@ const MicrofacetDistribution kClearcoatShadowing(MicrofacetDistribution::Type::G
 
 enum Lobe { kDiffuseLobe, kSheenLobe, kSpecularLobe, kClearcoatLobe, kLobeCount };
 const std::array<const char *, kLobeCount> kLobeNames = {"diffuse", "sheen", "specular",
-                                                        "clearcoat"};
+                                                         "clearcoat"};
 
 } // namespace
 
@@ -256,7 +256,8 @@ private:
         const float clearcoat = unit(m_clearcoat);
         std::array<float, 3> weights = {
             m_enabled[kDiffuseLobe] || m_enabled[kSheenLobe] ? 1.0f - metallic : 0.0f,
-            m_enabled[kSpecularLobe] ? 1.0f : 0.0f, m_enabled[kClearcoatLobe] ? 0.25f * clearcoat : 0.0f};
+            m_enabled[kSpecularLobe] ? 1.0f : 0.0f,
+            m_enabled[kClearcoatLobe] ? 0.25f * clearcoat : 0.0f};
         const float total = weights[0] + weights[1] + weights[2];
         for (float &w : weights)
             w = total > 0.0f ? w / total : 0.0f;
