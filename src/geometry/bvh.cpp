@@ -262,6 +262,14 @@ public:
         return nodeIndex;
     }
 
+    /// Primitives are tested a block (SIMD packet) at a time: n of them cost ⌈n/block⌉
+    /// tests (the SAH with blocks, as in Embree's builders).
+    float blocks(uint32_t count) const {
+        const uint32_t blockCount = (count + m_blockSize - 1) / m_blockSize; // ⌈count/block⌉
+        return static_cast<float>(blockCount);
+    }
+    /// A primitive test's cost, in units of a box test.
+    float intersectionCost() const { return m_intersectionCost; }
     const BuildNode &node(uint32_t index) const { return m_nodes[index]; }
     uint32_t nodeCount() const { return m_nextNode.load(); }
     uint32_t leafCount() const { return m_leafCount.load(); }
@@ -386,12 +394,6 @@ private:
         return true;
     }
 
-    /// Primitives are tested a block (SIMD packet) at a time: n of them cost ⌈n/block⌉
-    /// tests (the SAH with blocks, as in Embree's builders).
-    float blocks(uint32_t count) const {
-        const uint32_t blockCount = (count + m_blockSize - 1) / m_blockSize; // ⌈count/block⌉
-        return static_cast<float>(blockCount);
-    }
     /// blocks() of four counts: ⌈n/block⌉ as the truncated quotient of (n + block − 1)/block,
     /// exact since counts are far below 2^24 and a non-integer quotient is at least 1/block
     /// above its floor.
@@ -448,16 +450,16 @@ private:
 /// binary tree's array, so one backward pass fills the table.
 template <int Width> class CollapseCosts {
 public:
-    CollapseCosts(const Builder &builder, float intersectionCost, uint32_t blockSize)
+    explicit CollapseCosts(const Builder &builder)
         : m_builder(builder), m_entries(builder.nodeCount()) {
         for (uint32_t index = builder.nodeCount(); index-- > 0;) {
             const BuildNode &node = builder.node(index);
             Entry &entry = m_entries[index];
             const float area = node.bounds().getSurfaceArea();
-            const uint32_t blocks = (node.count + blockSize - 1) / blockSize; // ⌈count/block⌉
-            const float leafCost = node.count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize)
-                                       ? area * intersectionCost * static_cast<float>(blocks)
-                                       : kInfinity;
+            const float leafCost =
+                node.count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize)
+                    ? area * builder.intersectionCost() * builder.blocks(node.count)
+                    : kInfinity;
             if (node.leaf) {
                 entry.leaf = true;
                 entry.cost.fill(leafCost);
@@ -585,7 +587,7 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
     // Collapse the binary tree into wide nodes, depth-first, in the SAH-optimal way
     // (CollapseCosts). Children are stored largest first, the order any-hit traversal
     // visits them in.
-    const CollapseCosts<Width> costs(builder, intersectionCost, leafAlignment);
+    const CollapseCosts<Width> costs(builder);
     m_nodes.reserve(builder.nodeCount() / 4 + 1);
     m_primitiveOrder.reserve(refs.size() +
                              static_cast<size_t>(builder.leafCount()) * (leafAlignment - 1));
@@ -605,9 +607,8 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
         for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
             m_primitiveOrder.push_back(refs[i].index());
         ++m_statistics.leaves;
-        const uint32_t blockCount = (leaf.count + leafAlignment - 1) / leafAlignment;
         m_statistics.sahCost +=
-            relativeArea(leaf.bounds()) * intersectionCost * static_cast<float>(blockCount);
+            relativeArea(leaf.bounds()) * intersectionCost * builder.blocks(leaf.count);
         return BVHReference::makeLeaf(static_cast<uint32_t>(first), leaf.count);
     };
     auto collapse = [&](auto &&self, uint32_t buildIndex, size_t depth) -> uint32_t {
