@@ -66,7 +66,7 @@ public:
     size_t memoryBytes() const;
 
 private:
-    /// Which shape and primitive a leaf slot holds; read only for the hit.
+    /// Which shape and primitive a leaf slot holds.
     struct PrimitiveId {
         uint32_t shapeIndex;
         uint32_t primIndex;
@@ -104,12 +104,16 @@ private:
 
     std::vector<const Shape *> m_shapes;
     std::vector<uint8_t> m_isMesh; ///< per shape: a Mesh, tested inline
-    // In leaf order, split by how often traversal reads them (memory, not compute,
-    // bounds incoherent rays): vertices for every test, four leaf slots to a packet
-    // (other kinds of primitive leave their lane NaN), and per slot the ids, read for
-    // the closest hit and for primitives that are not triangles.
+    /// The ids of leaf slot `slot`.
+    PrimitiveId idOf(uint32_t slot) const {
+        const TrianglePacket &packet = m_packets[slot / TrianglePacket::kWidth];
+        const uint32_t lane = slot % TrianglePacket::kWidth;
+        return {packet.shapeIndex[lane], packet.primIndex[lane]};
+    }
+
+    // The leaf slots in leaf order, four to a packet: triangles' vertices (other kinds of
+    // primitive leave their lane NaN) and every slot's ids.
     std::vector<TrianglePacket, LargeArrayAllocator<TrianglePacket>> m_packets;
-    std::vector<PrimitiveId> m_ids;
     BVH<8> m_bvh;
 
     std::vector<const InstanceTarget *> m_targets;

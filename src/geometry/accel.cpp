@@ -65,28 +65,27 @@ void Accel::build() {
     const std::vector<uint32_t> order = m_bvh.takePrimitiveOrder();
     const size_t packetCount = (order.size() + TrianglePacket::kWidth - 1) / TrianglePacket::kWidth;
     m_packets.resize(packetCount);
-    m_ids.assign(packetCount * TrianglePacket::kWidth,
-                 {BVHBase::kNoPrimitive, BVHBase::kNoPrimitive});
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, packetCount, 1024),
-                      [&](const tbb::blocked_range<size_t> &range) {
-                          for (size_t packet = range.begin(); packet != range.end(); ++packet)
-                              for (int lane = 0; lane < TrianglePacket::kWidth; ++lane) {
-                                  const size_t slot = packet * TrianglePacket::kWidth + lane;
-                                  m_packets[packet].clear(lane);
-                                  if (slot >= order.size() || order[slot] == BVHBase::kNoPrimitive)
-                                      continue;
-                                  const auto [shapeIndex, primIndex] = refs[order[slot]];
-                                  m_ids[slot] = {shapeIndex, primIndex};
-                                  if (!m_isMesh[shapeIndex])
-                                      continue;
-                                  const auto *mesh =
-                                      static_cast<const Mesh *>(m_shapes[shapeIndex]);
-                                  const Vector3i &face = mesh->getFaces()[primIndex];
-                                  const auto &positions = mesh->getVertexPositions();
-                                  m_packets[packet].set(lane, positions[face[0]],
-                                                        positions[face[1]], positions[face[2]]);
-                              }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, packetCount, 1024),
+        [&](const tbb::blocked_range<size_t> &range) {
+            for (size_t packet = range.begin(); packet != range.end(); ++packet)
+                for (int lane = 0; lane < TrianglePacket::kWidth; ++lane) {
+                    const size_t slot = packet * TrianglePacket::kWidth + lane;
+                    m_packets[packet].clear(lane);
+                    if (slot >= order.size() || order[slot] == BVHBase::kNoPrimitive)
+                        continue;
+                    const auto [shapeIndex, primIndex] = refs[order[slot]];
+                    m_packets[packet].shapeIndex[lane] = shapeIndex;
+                    m_packets[packet].primIndex[lane] = primIndex;
+                    if (!m_isMesh[shapeIndex])
+                        continue;
+                    const auto *mesh = static_cast<const Mesh *>(m_shapes[shapeIndex]);
+                    const Vector3i &face = mesh->getFaces()[primIndex];
+                    const auto &positions = mesh->getVertexPositions();
+                    m_packets[packet].setTriangle(lane, positions[face[0]], positions[face[1]],
+                                                  positions[face[2]]);
+                }
+        });
 
     // The instances, likewise in leaf order of their own tree.
     m_instanceBvh.build(m_instanceBounds, kInstanceIntersectionCost);
@@ -113,7 +112,7 @@ size_t Accel::memoryBytes() const {
     // NOLINTBEGIN(bugprone-sizeof-expression): two of the vectors hold pointers, whose
     // size is what they cost.
     return m_bvh.nodeCount() * sizeof(decltype(m_bvh)::Node) +
-           m_packets.capacity() * sizeof(TrianglePacket) + m_ids.capacity() * sizeof(PrimitiveId) +
+           m_packets.capacity() * sizeof(TrianglePacket) +
            m_instanceBvh.nodeCount() * sizeof(decltype(m_instanceBvh)::Node) +
            m_instances.capacity() * sizeof(InstanceRecord) +
            m_targets.capacity() * sizeof(decltype(m_targets)::value_type) +
@@ -152,7 +151,7 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
         auto intersectLeaf = [&](uint32_t first, uint32_t count, float &tLimit) {
             bool hitInLeaf = false;
             auto consider = [&](uint32_t slot, float t, const Point2f &coords) {
-                if (found && (t > tBest || (t == tBest && m_ids[bestSlot] < m_ids[slot])))
+                if (found && (t > tBest || (t == tBest && idOf(bestSlot) < idOf(slot))))
                     return false;
                 found = hitInLeaf = true;
                 bestSlot = slot;
@@ -190,8 +189,8 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
                                                 packet.vertex(packetLane, 1),
                                                 packet.vertex(packetLane, 2), t, coords.x(),
                                                 coords.y())
-                            : m_shapes[m_ids[slot].shapeIndex]->rayIntersect(m_ids[slot].primIndex,
-                                                                             ray, t, coords);
+                            : m_shapes[packet.shapeIndex[packetLane]]->rayIntersect(
+                                  packet.primIndex[packetLane], ray, t, coords);
                     if (hit && consider(slot, t, coords) && anyHit)
                         return true;
                 }
@@ -287,7 +286,7 @@ bool Accel::closestHit(const Ray3f &ray, float &t, const Shape *&shape, uint32_t
     if (!intersect(ray, false, hit, 0))
         return false;
     t = hit.t;
-    const PrimitiveId &id = hit.owner->m_ids[hit.slot];
+    const PrimitiveId id = hit.owner->idOf(hit.slot);
     const Shape *reportedShape = followInstances(hit, nullptr);
     shape = reportedShape ? reportedShape : hit.owner->m_shapes[id.shapeIndex];
     primIndex = id.primIndex;
@@ -319,7 +318,7 @@ bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) co
     const Shape *reportedShape = followInstances(hit, &toLocal);
 
     its.t = hit.t;
-    const PrimitiveId &id = hit.owner->m_ids[hit.slot];
+    const PrimitiveId id = hit.owner->idOf(hit.slot);
     const Shape *shape = hit.owner->m_shapes[id.shapeIndex];
     if (hit.depth == 0) {
         shape->setHitInformation(id.primIndex, ray, hit.coords, its);
