@@ -15,6 +15,7 @@
 #include <nori/simd.h>
 
 #include <algorithm>
+#include <functional>
 #include <vector>
 
 namespace nori {
@@ -128,14 +129,21 @@ template <int Width> class BVH : public BVHBase {
 public:
     using Node = BVHNode<Width>;
 
-    /// Builds over primitives with the given bounds (primitive i has bounds[i]).
-    /// Primitives with empty or non-finite bounds are left out and counted.
-    /// `intersectionCost` is a primitive test's cost in units of a box test (an instance,
-    /// whose test is a whole traversal, costs more than a triangle). Every leaf's first
-    /// slot is a multiple of `leafAlignment` (padding slots hold kNoPrimitive), so that a
-    /// caller can store its primitives in SIMD packets of that many.
+    /// Builds over `count` primitives, primitive i with bounds boundsOf(i) (called once
+    /// for each, from several threads). Primitives with empty or non-finite bounds are
+    /// left out and counted. `intersectionCost` is a primitive test's cost in units of a
+    /// box test (an instance, whose test is a whole traversal, costs more than a
+    /// triangle). Every leaf's first slot is a multiple of `leafAlignment` (padding slots
+    /// hold kNoPrimitive), so that a caller can store its primitives in SIMD packets of
+    /// that many.
+    void build(size_t count, const std::function<BoundingBox3f(size_t)> &boundsOf,
+               float intersectionCost = kIntersectionCost, uint32_t leafAlignment = 1);
+    /// The same over primitives whose bounds are given: primitive i has bounds[i].
     void build(const std::vector<BoundingBox3f> &bounds, float intersectionCost = kIntersectionCost,
-               uint32_t leafAlignment = 1);
+               uint32_t leafAlignment = 1) {
+        build(
+            bounds.size(), [&](size_t i) { return bounds[i]; }, intersectionCost, leafAlignment);
+    }
 
     const Node &node(size_t index) const { return m_nodes[index]; }
     size_t nodeCount() const { return m_nodes.size(); }

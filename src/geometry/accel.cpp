@@ -45,20 +45,25 @@ void Accel::addInstance(const InstanceTarget *target, const Transform &toWorld) 
 }
 
 void Accel::build() {
-    // Every primitive of every shape, with its bounds.
-    std::vector<std::pair<uint32_t, uint32_t>> refs; // (shape, primitive)
-    for (uint32_t s = 0; s < m_shapes.size(); ++s)
-        for (uint32_t p = 0; p < m_shapes[s]->getPrimitiveCount(); ++p)
-            refs.emplace_back(s, p);
-    std::vector<BoundingBox3f> bounds(refs.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), 4096),
-                      [&](const tbb::blocked_range<size_t> &range) {
-                          for (size_t i = range.begin(); i != range.end(); ++i)
-                              bounds[i] =
-                                  m_shapes[refs[i].first]->getPrimitiveBoundingBox(refs[i].second);
-                      });
-    m_bvh.build(bounds, BVHBase::kIntersectionCost, TrianglePacket::kWidth);
-    std::vector<BoundingBox3f>().swap(bounds); // frees it (`= {}` would keep the capacity)
+    // Every primitive of every shape, numbered shape after shape: shape s holds primitives
+    // [firstPrimitive[s], firstPrimitive[s + 1]).
+    std::vector<size_t> firstPrimitive{0};
+    for (const Shape *shape : m_shapes)
+        firstPrimitive.push_back(firstPrimitive.back() + shape->getPrimitiveCount());
+    auto locate = [&](size_t primitive) {
+        const auto next =
+            std::upper_bound(firstPrimitive.begin() + 1, firstPrimitive.end(), primitive);
+        const auto shapeIndex = static_cast<uint32_t>(next - firstPrimitive.begin() - 1);
+        return PrimitiveId{shapeIndex,
+                           static_cast<uint32_t>(primitive - firstPrimitive[shapeIndex])};
+    };
+    m_bvh.build(
+        firstPrimitive.back(),
+        [&](size_t primitive) {
+            const PrimitiveId id = locate(primitive);
+            return m_shapes[id.shapeIndex]->getPrimitiveBoundingBox(id.primIndex);
+        },
+        BVHBase::kIntersectionCost, TrianglePacket::kWidth);
     m_bbox = m_bvh.getBoundingBox();
 
     // Copy the primitives into leaf order: triangles into packets of four slots.
@@ -74,7 +79,7 @@ void Accel::build() {
                     m_packets[packet].clear(lane);
                     if (slot >= order.size() || order[slot] == BVHBase::kNoPrimitive)
                         continue;
-                    const auto [shapeIndex, primIndex] = refs[order[slot]];
+                    const auto [shapeIndex, primIndex] = locate(order[slot]);
                     m_packets[packet].shapeIndex[lane] = shapeIndex;
                     m_packets[packet].primIndex[lane] = primIndex;
                     if (!m_isMesh[shapeIndex])

@@ -1,6 +1,7 @@
 #include <nori/bvh.h>
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
@@ -60,6 +61,9 @@ private:
     }
 };
 
+/// The build's primitives: tens of megabytes, filled in parallel (see LargeArrayAllocator).
+using PrimitiveRefs = std::vector<PrimitiveRef, LargeArrayAllocator<PrimitiveRef>>;
+
 /// A node of the temporary binary tree; children index into the same array. Trivial, so
 /// that the array sized for the worst case (2n − 1 nodes) costs only the pages used.
 struct BuildNode {
@@ -82,18 +86,24 @@ struct BuildNode {
 };
 
 /// Maps doubled centroids to bins on the three axes at once: ⌊scale·(c − origin)⌋,
-/// clamped to [0, kBinCount − 1] (clamping before truncation gives the same bin).
+/// clamped to [0, binCount − 1] (clamping before truncation gives the same bin).
 struct BinMapping {
     __m128 origin, scale;
+    /// Fewer bins for fewer primitives, 4 + n/20 up to kBinCount (as Embree's builders
+    /// do): the sweep over the bins costs as much as binning a small node.
+    int binCount;
 
-    explicit BinMapping(const SimdBox &centroids) : origin(centroids.lower) {
-        // k slightly below kBinCount/extent, so that the maximum lands in the last bin; an
+    BinMapping(const SimdBox &centroids, uint32_t count)
+        : origin(centroids.lower),
+          binCount(static_cast<int>(std::min<uint32_t>(BVHBase::kBinCount, 4 + count / 20))) {
+        // k slightly below binCount/extent, so that the maximum lands in the last bin; an
         // axis without extent gets k = 0 and is not split.
         alignas(16) float extent[4], k[4] = {0, 0, 0, 0};
         _mm_store_ps(extent, _mm_sub_ps(centroids.upper, centroids.lower));
         for (int axis = 0; axis < 3; ++axis)
-            k[axis] =
-                extent[axis] > 0.0f ? BVHBase::kBinCount * (1.0f - 1e-6f) / extent[axis] : 0.0f;
+            k[axis] = extent[axis] > 0.0f
+                          ? static_cast<float>(binCount) * (1.0f - 1e-6f) / extent[axis]
+                          : 0.0f;
         scale = _mm_load_ps(k);
     }
     bool splits(int axis) const {
@@ -104,7 +114,8 @@ struct BinMapping {
     /// The bin coordinates, still as floats: their integer parts are the bins.
     __m128 coordinates(__m128 centroid2) const {
         const __m128 x = _mm_mul_ps(_mm_sub_ps(centroid2, origin), scale);
-        return _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(BVHBase::kBinCount - 1));
+        return _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()),
+                          _mm_set1_ps(static_cast<float>(binCount - 1)));
     }
 };
 
@@ -195,7 +206,7 @@ constexpr uint32_t kParallelBinThreshold = 65536;
 
 class Builder {
 public:
-    Builder(std::vector<PrimitiveRef> &refs, float intersectionCost, uint32_t blockSize)
+    Builder(PrimitiveRefs &refs, float intersectionCost, uint32_t blockSize)
         : m_refs(refs),
           // At most 2n − 1 nodes. Default-initialised: BuildNode is trivial, so no page is
           // touched before use (make_unique would zero them all).
@@ -212,7 +223,7 @@ public:
         node.first = first;
         node.count = count;
         node.leaf = false;
-        const BinMapping mapping(centroids);
+        const BinMapping mapping(centroids, count);
         Split split;
         const bool found = depth < BVHBase::kSahDepthLimit
                                ? findSahSplit(first, count, bounds, mapping, split)
@@ -338,14 +349,15 @@ private:
             return _mm_load_si128(reinterpret_cast<const __m128i *>(bins.counts[b].data()));
         };
         TransposedBoxes binBoxes[kBins];
-        for (int b = 0; b < kBins; ++b)
+        const int binCount = mapping.binCount;
+        for (int b = 0; b < binCount; ++b)
             binBoxes[b] = TransposedBoxes(bins.boxes[0][b], bins.boxes[1][b], bins.boxes[2][b]);
         // From the right: area and count of everything right of each boundary.
         __m128 rightArea[kBins];
         __m128i rightCount[kBins];
         TransposedBoxes accumulated;
         __m128i accumulatedCount = _mm_setzero_si128();
-        for (int b = kBins - 1; b > 0; --b) {
+        for (int b = binCount - 1; b > 0; --b) {
             accumulated.expand(binBoxes[b]);
             accumulatedCount = _mm_add_epi32(accumulatedCount, countsOf(b));
             rightArea[b] = accumulated.surfaceAreas();
@@ -357,7 +369,7 @@ private:
         const __m128i empty = _mm_setzero_si128();
         accumulated = TransposedBoxes();
         accumulatedCount = _mm_setzero_si128();
-        for (int b = 0; b < kBins - 1; ++b) {
+        for (int b = 0; b < binCount - 1; ++b) {
             accumulated.expand(binBoxes[b]);
             accumulatedCount = _mm_add_epi32(accumulatedCount, countsOf(b));
             const __m128 sides =
@@ -376,7 +388,7 @@ private:
         for (int axis = 0; axis < 3; ++axis) {
             if (!mapping.splits(axis))
                 continue;
-            for (int b = 0; b < kBins - 1; ++b)
+            for (int b = 0; b < binCount - 1; ++b)
                 if (cost[b][axis] < best.cost) {
                     best.cost = cost[b][axis];
                     best.axis = axis;
@@ -389,7 +401,7 @@ private:
             return false;
 
         // The children's bounds follow from the bins.
-        for (int b = 0; b < BVHBase::kBinCount; ++b)
+        for (int b = 0; b < binCount; ++b)
             (b <= best.bin ? best.leftBounds : best.rightBounds).expand(bins.boxes[best.axis][b]);
         return true;
     }
@@ -434,7 +446,7 @@ private:
         return static_cast<uint32_t>(boundary - begin);
     }
 
-    std::vector<PrimitiveRef> &m_refs;
+    PrimitiveRefs &m_refs;
     std::unique_ptr<BuildNode[]> m_nodes;
     std::atomic<uint32_t> m_nextNode{0}, m_leafCount{0};
     float m_intersectionCost;
@@ -446,46 +458,17 @@ private:
 /// HPG 2017, §3.1). cost(n, i) is the least SAH cost of binary node n's subtree as at most
 /// i children of a wide node: n itself (a leaf, or a wide node whose children cost
 /// cost(left, k) + cost(right, Width − k) at best), or cost(left, k) + cost(right, i − k)
-/// with n's slots split between its children. Children come before their parents in the
-/// binary tree's array, so one backward pass fills the table.
+/// with n's slots split between its children. A post-order pass fills the table, large
+/// subtrees in parallel.
 template <int Width> class CollapseCosts {
 public:
     explicit CollapseCosts(const Builder &builder)
-        : m_builder(builder), m_entries(builder.nodeCount()) {
-        for (uint32_t index = builder.nodeCount(); index-- > 0;) {
-            const BuildNode &node = builder.node(index);
-            Entry &entry = m_entries[index];
-            const float area = node.bounds().getSurfaceArea();
-            const float leafCost =
-                node.count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize)
-                    ? area * builder.intersectionCost() * builder.blocks(node.count)
-                    : kInfinity;
-            if (node.leaf) {
-                entry.leaf = true;
-                entry.cost.fill(leafCost);
-                entry.split.fill(false);
-                continue;
-            }
-            const Entry &left = m_entries[node.children[0]], &right = m_entries[node.children[1]];
-            std::array<float, Width + 1> split{}; // split[i]: the best split of i slots
-            for (int slots = 2; slots <= Width; ++slots) {
-                split[slots] = kInfinity;
-                for (int k = 1; k < slots; ++k) {
-                    const float cost = left.cost[k - 1] + right.cost[slots - k - 1];
-                    if (cost < split[slots]) {
-                        split[slots] = cost;
-                        entry.leftSlots[slots - 1] = static_cast<uint8_t>(k);
-                    }
-                }
-            }
-            const float nodeCost = area * BVHBase::kTraversalCost + split[Width];
-            entry.leaf = leafCost <= nodeCost;
-            entry.cost[0] = std::min(leafCost, nodeCost);
-            for (int slots = 2; slots <= Width; ++slots) {
-                entry.split[slots - 1] = split[slots] < entry.cost[0];
-                entry.cost[slots - 1] = std::min(entry.cost[0], split[slots]);
-            }
-        }
+        // Default-initialised: every entry is written once, by the thread that owns its
+        // subtree, so no serial pass first zeroes (and faults in) the whole table.
+        : m_builder(builder) {
+        m_entries.resize(builder.nodeCount());
+        if (builder.nodeCount() > 0)
+            fill(0);
     }
 
     /// Whether binary node `index`, as a child of a wide node, is a leaf.
@@ -505,19 +488,61 @@ public:
 
 private:
     struct Entry {
-        std::array<float, Width> cost; ///< cost[i − 1]: cost(n, i)
-        std::array<uint8_t, Width>
-            leftSlots;                 ///< [i − 1]: the left child's slots in the best split of i
-        std::array<bool, Width> split; ///< [i − 1]: with i slots, splitting beats n itself
-        bool leaf;                     ///< n by itself is a leaf
+        std::array<float, Width> cost;        ///< cost[i − 1]: cost(n, i)
+        std::array<uint8_t, Width> leftSlots; ///< [i − 1]: the left child's slots in the best
+                                              ///< split of i
+        uint8_t splits; ///< bit i − 1: with i slots, splitting beats n itself
+        bool leaf;      ///< n by itself is a leaf
     };
+
+    /// Fills the entries of binary node `index`'s subtree, children first.
+    void fill(uint32_t index) {
+        const BuildNode &node = m_builder.node(index);
+        Entry &entry = m_entries[index];
+        const float area = node.bounds().getSurfaceArea();
+        const float leafCost =
+            node.count <= static_cast<uint32_t>(BVHBase::kMaxLeafSize)
+                ? area * m_builder.intersectionCost() * m_builder.blocks(node.count)
+                : kInfinity;
+        if (node.leaf) {
+            entry.leaf = true;
+            entry.cost.fill(leafCost);
+            entry.splits = 0;
+            return;
+        }
+        if (node.count > kParallelThreshold)
+            tbb::parallel_invoke([&] { fill(node.children[0]); }, [&] { fill(node.children[1]); });
+        else
+            fill(node.children[0]), fill(node.children[1]);
+        const Entry &left = m_entries[node.children[0]], &right = m_entries[node.children[1]];
+        std::array<float, Width + 1> split{}; // split[i]: the best split of i slots
+        for (int slots = 2; slots <= Width; ++slots) {
+            split[slots] = kInfinity;
+            for (int k = 1; k < slots; ++k) {
+                const float cost = left.cost[k - 1] + right.cost[slots - k - 1];
+                if (cost < split[slots]) {
+                    split[slots] = cost;
+                    entry.leftSlots[slots - 1] = static_cast<uint8_t>(k);
+                }
+            }
+        }
+        const float nodeCost = area * BVHBase::kTraversalCost + split[Width];
+        entry.leaf = leafCost <= nodeCost;
+        entry.cost[0] = std::min(leafCost, nodeCost);
+        entry.splits = 0;
+        for (int slots = 2; slots <= Width; ++slots) {
+            if (split[slots] < entry.cost[0])
+                entry.splits |= static_cast<uint8_t>(1u << (slots - 1));
+            entry.cost[slots - 1] = std::min(entry.cost[0], split[slots]);
+        }
+    }
 
     /// Appends the children that binary node `index` becomes with `slots` slots; `open`:
     /// split it whatever it costs (it is the wide node being made).
     void gather(uint32_t index, int slots, bool open, std::array<uint32_t, Width> &children,
                 int &count) const {
         const Entry &entry = m_entries[index];
-        if (!open && (slots == 1 || !entry.split[slots - 1])) {
+        if (!open && ((entry.splits >> (slots - 1)) & 1) == 0) {
             children[count++] = index;
             return;
         }
@@ -528,14 +553,173 @@ private:
     }
 
     const Builder &m_builder;
-    std::vector<Entry> m_entries;
+    /// Filled in parallel (see LargeArrayAllocator).
+    std::vector<Entry, LargeArrayAllocator<Entry>> m_entries;
+};
+
+/// Writes the wide tree that CollapseCosts chooses: nodes in depth-first order, each
+/// node's children largest box first (the order any-hit traversal visits them in), its
+/// leaves before its subtrees, so that the leaves a ray enters together lie side by side
+/// in leaf order. Two parallel passes: the first sizes every wide subtree (nodes and leaf
+/// slots), so that the second can write each subtree into its own ranges of the arrays.
+template <int Width> class WideTreeWriter {
+public:
+    using Node = BVHNode<Width>;
+
+    /// What a wide subtree holds, and its share of the tree's statistics.
+    struct Subtree {
+        uint32_t nodes = 0;
+        size_t slots = 0; ///< leaf slots, each leaf padded to the alignment
+        size_t leaves = 0;
+        size_t depth = 0;
+        double sahCost = 0.0; ///< relative to the root's area
+    };
+
+    WideTreeWriter(const Builder &builder, const CollapseCosts<Width> &costs,
+                   const PrimitiveRefs &refs, uint32_t leafAlignment)
+        : m_builder(builder), m_costs(costs), m_refs(refs), m_leafAlignment(leafAlignment),
+          m_rootArea(area(0)),
+          // Written only where a wide node is made, by the thread making it.
+          m_subtreeNodes(new uint32_t[builder.nodeCount()]), // NOLINT
+          m_subtreeSlots(new size_t[builder.nodeCount()]) {} // NOLINT
+
+    /// Pass 1: sizes the wide subtree made of binary node `index` and of every wide
+    /// subtree below it.
+    Subtree measure(uint32_t index) {
+        std::array<uint32_t, Width> children{};
+        const int childCount = sortedChildren(index, children);
+        Subtree result;
+        result.nodes = 1;
+        result.sahCost = relativeArea(index) * BVHBase::kTraversalCost;
+        std::array<Subtree, Width> below{};
+        forEachChild(index, childCount, [&](int i) {
+            if (!m_costs.isLeaf(children[i]))
+                below[i] = measure(children[i]);
+        });
+        for (int i = 0; i < childCount; ++i) {
+            if (m_costs.isLeaf(children[i])) {
+                const BuildNode &leaf = m_builder.node(children[i]);
+                result.slots += paddedSlots(leaf.count);
+                result.leaves += 1;
+                result.sahCost += relativeArea(children[i]) * m_builder.intersectionCost() *
+                                  m_builder.blocks(leaf.count);
+                continue;
+            }
+            result.nodes += below[i].nodes;
+            result.slots += below[i].slots;
+            result.leaves += below[i].leaves;
+            result.depth = std::max(result.depth, below[i].depth);
+            result.sahCost += below[i].sahCost;
+        }
+        result.depth += 1;
+        m_subtreeNodes[index] = result.nodes;
+        m_subtreeSlots[index] = result.slots;
+        return result;
+    }
+
+    /// Pass 2: writes the wide node made of binary node `index` at nodes[nodeIndex], its
+    /// leaves' primitives from slot `firstSlot` on, and its subtrees after them.
+    void write(uint32_t index, uint32_t nodeIndex, size_t firstSlot, Node *nodes,
+               uint32_t *primitiveOrder) const {
+        std::array<uint32_t, Width> children{};
+        const int childCount = sortedChildren(index, children);
+        Node &node = nodes[nodeIndex];
+        std::fill(std::begin(node.padding), std::end(node.padding), uint8_t(0));
+        auto setChild = [&](int i, const BoundingBox3f &box, uint32_t reference) {
+            for (int axis = 0; axis < 3; ++axis) {
+                node.bounds[axis][0][i] = box.min[axis];
+                node.bounds[axis][1][i] = box.max[axis];
+            }
+            node.child[i] = reference;
+        };
+        size_t nextSlot = firstSlot;
+        for (int i = 0; i < childCount; ++i) {
+            if (!m_costs.isLeaf(children[i]))
+                continue;
+            const BuildNode &leaf = m_builder.node(children[i]);
+            for (uint32_t k = 0; k < paddedSlots(leaf.count); ++k)
+                primitiveOrder[nextSlot + k] =
+                    k < leaf.count ? m_refs[leaf.first + k].index() : BVHBase::kNoPrimitive;
+            setChild(i, leaf.bounds(),
+                     BVHReference::makeLeaf(static_cast<uint32_t>(nextSlot), leaf.count));
+            nextSlot += paddedSlots(leaf.count);
+        }
+        for (int i = childCount; i < Width; ++i) // unused: an empty box, which no ray enters
+            setChild(i, BoundingBox3f(), BVHReference::makeLeaf(0, 0));
+        std::array<uint32_t, Width> childNode{};
+        std::array<size_t, Width> childSlot{};
+        uint32_t nextNode = nodeIndex + 1;
+        for (int i = 0; i < childCount; ++i) {
+            if (m_costs.isLeaf(children[i]))
+                continue;
+            childNode[i] = nextNode;
+            childSlot[i] = nextSlot;
+            setChild(i, m_builder.node(children[i]).bounds(), nextNode);
+            nextNode += m_subtreeNodes[children[i]];
+            nextSlot += m_subtreeSlots[children[i]];
+        }
+        forEachChild(index, childCount, [&](int i) {
+            if (!m_costs.isLeaf(children[i]))
+                write(children[i], childNode[i], childSlot[i], nodes, primitiveOrder);
+        });
+    }
+
+private:
+    float area(uint32_t index) const { return m_builder.node(index).bounds().getSurfaceArea(); }
+    /// A node's share of the root's area: the probability that a ray through the root
+    /// meets it (1 when the root has no area).
+    double relativeArea(uint32_t index) const {
+        return m_rootArea > 0.0f ? static_cast<double>(area(index)) / m_rootArea : 1.0;
+    }
+
+    size_t paddedSlots(uint32_t count) const {
+        return (count + m_leafAlignment - 1) / m_leafAlignment * m_leafAlignment;
+    }
+
+    /// The wide node's children, largest area first (ties in the order gathered): an
+    /// insertion sort, as there are at most Width.
+    int sortedChildren(uint32_t index, std::array<uint32_t, Width> &children) const {
+        const int childCount = m_costs.children(index, children);
+        std::array<float, Width> areas{};
+        for (int i = 0; i < childCount; ++i) {
+            const uint32_t child = children[i];
+            const float childArea = area(child);
+            int position = i;
+            for (; position > 0 && areas[position - 1] < childArea; --position) {
+                areas[position] = areas[position - 1];
+                children[position] = children[position - 1];
+            }
+            areas[position] = childArea;
+            children[position] = child;
+        }
+        return childCount;
+    }
+
+    /// Runs visit(i) for each child, in parallel below a node with many primitives.
+    template <typename Visit>
+    void forEachChild(uint32_t index, int childCount, Visit &&visit) const {
+        if (m_builder.node(index).count > kParallelThreshold)
+            tbb::parallel_for(0, childCount, [&](int i) { visit(i); });
+        else
+            for (int i = 0; i < childCount; ++i)
+                visit(i);
+    }
+
+    const Builder &m_builder;
+    const CollapseCosts<Width> &m_costs;
+    const PrimitiveRefs &m_refs;
+    uint32_t m_leafAlignment;
+    float m_rootArea;
+    /// Per binary node that becomes a wide node: its subtree's nodes and slots.
+    std::unique_ptr<uint32_t[]> m_subtreeNodes;
+    std::unique_ptr<size_t[]> m_subtreeSlots;
 };
 
 } // namespace
 
 template <int Width>
-void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersectionCost,
-                       uint32_t leafAlignment) {
+void BVH<Width>::build(size_t count, const std::function<BoundingBox3f(size_t)> &boundsOf,
+                       float intersectionCost, uint32_t leafAlignment) {
     m_nodes.clear();
     m_primitiveOrder.clear();
     m_bounds = BoundingBox3f();
@@ -543,16 +727,16 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
 
     // The references and the root's bounds, in parallel. Primitives with empty or
     // non-finite bounds (NaN vertices, ...) cannot be placed: they are marked, then dropped.
-    std::vector<PrimitiveRef> refs(bounds.size());
+    PrimitiveRefs refs(count);
     struct RootBounds {
         SimdBox bounds, centroids;
         size_t skipped = 0;
     };
     const RootBounds root = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, bounds.size(), 16384), RootBounds(),
+        tbb::blocked_range<size_t>(0, count, 16384), RootBounds(),
         [&](const tbb::blocked_range<size_t> &range, RootBounds partial) {
             for (size_t i = range.begin(); i != range.end(); ++i) {
-                const BoundingBox3f &box = bounds[i];
+                const BoundingBox3f box = boundsOf(i);
                 if (!box.isValid() || !box.min.allFinite() || !box.max.allFinite()) {
                     refs[i] = PrimitiveRef(BoundingBox3f(), kNoPrimitive);
                     ++partial.skipped;
@@ -584,72 +768,21 @@ void BVH<Width>::build(const std::vector<BoundingBox3f> &bounds, float intersect
     Builder builder(refs, intersectionCost, leafAlignment);
     builder.build(0, static_cast<uint32_t>(refs.size()), rootBounds, rootCentroids, 0);
 
-    // Collapse the binary tree into wide nodes, depth-first, in the SAH-optimal way
-    // (CollapseCosts). Children are stored largest first, the order any-hit traversal
-    // visits them in.
+    // Collapse the binary tree into wide nodes in the SAH-optimal way.
     const CollapseCosts<Width> costs(builder);
-    m_nodes.reserve(builder.nodeCount() / 4 + 1);
-    m_primitiveOrder.reserve(refs.size() +
-                             static_cast<size_t>(builder.leafCount()) * (leafAlignment - 1));
-    const float rootArea = m_bounds.getSurfaceArea();
-    auto relativeArea = [&](const BoundingBox3f &box) {
-        return rootArea > 0.0f ? box.getSurfaceArea() / rootArea : 1.0f;
-    };
-    auto leafReference = [&](const BuildNode &leaf) {
-        const size_t first =
-            (m_primitiveOrder.size() + leafAlignment - 1) / leafAlignment * leafAlignment;
-        // A leaf reference holds its first slot in 27 bits: 134M slots, padding included.
-        if (first + leaf.count > static_cast<size_t>(BVHReference::kSlotMask) + 1)
-            throw NoriException("{} primitives are more than one BVH holds: their leaves need "
-                                "more than {} slots",
-                                refs.size(), static_cast<size_t>(BVHReference::kSlotMask) + 1);
-        m_primitiveOrder.resize(first, kNoPrimitive);
-        for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
-            m_primitiveOrder.push_back(refs[i].index());
-        ++m_statistics.leaves;
-        m_statistics.sahCost +=
-            relativeArea(leaf.bounds()) * intersectionCost * builder.blocks(leaf.count);
-        return BVHReference::makeLeaf(static_cast<uint32_t>(first), leaf.count);
-    };
-    auto collapse = [&](auto &&self, uint32_t buildIndex, size_t depth) -> uint32_t {
-        m_statistics.maxDepth = std::max(m_statistics.maxDepth, depth);
-        std::array<uint32_t, Width> children{};
-        const int childCount = costs.children(buildIndex, children);
-        auto area = [&](uint32_t index) { return builder.node(index).bounds().getSurfaceArea(); };
-        std::stable_sort(children.begin(), children.begin() + childCount,
-                         [&](uint32_t a, uint32_t b) { return area(a) > area(b); });
-
-        const auto nodeIndex = static_cast<uint32_t>(m_nodes.size());
-        m_nodes.emplace_back();
-        m_statistics.sahCost += relativeArea(builder.node(buildIndex).bounds()) * kTraversalCost;
-        // The leaf children first, so that a node's leaves lie side by side in leaf order
-        // (a ray that enters several of them reads one stretch of memory), then the
-        // subtrees.
-        for (const bool leaves : {true, false})
-            for (int i = 0; i < Width; ++i) {
-                BoundingBox3f box; // empty: min +inf, max -inf
-                uint32_t reference = BVHReference::makeLeaf(0, 0);
-                if (i < childCount) {
-                    const BuildNode &child = builder.node(children[i]);
-                    if (costs.isLeaf(children[i]) != leaves)
-                        continue;
-                    box = child.bounds();
-                    reference = leaves ? leafReference(child) : self(self, children[i], depth + 1);
-                } else if (!leaves) {
-                    continue;
-                }
-                Node &node = m_nodes[nodeIndex]; // after the recursion, which may reallocate
-                for (int axis = 0; axis < 3; ++axis) {
-                    node.bounds[axis][0][i] = box.min[axis];
-                    node.bounds[axis][1][i] = box.max[axis];
-                }
-                node.child[i] = reference;
-            }
-        return nodeIndex;
-    };
-    collapse(collapse, 0, 1);
-    m_nodes.shrink_to_fit();
-    m_primitiveOrder.shrink_to_fit();
+    WideTreeWriter<Width> writer(builder, costs, refs, leafAlignment);
+    const auto tree = writer.measure(0);
+    // A leaf reference holds its first slot in 27 bits: 134M slots, padding included.
+    if (tree.slots > static_cast<size_t>(BVHReference::kSlotMask) + 1)
+        throw NoriException("{} primitives are more than one BVH holds: their leaves need "
+                            "more than {} slots",
+                            refs.size(), static_cast<size_t>(BVHReference::kSlotMask) + 1);
+    m_nodes.resize(tree.nodes);
+    m_primitiveOrder.resize(tree.slots);
+    writer.write(0, 0, 0, m_nodes.data(), m_primitiveOrder.data());
+    m_statistics.leaves = tree.leaves;
+    m_statistics.maxDepth = tree.depth;
+    m_statistics.sahCost = static_cast<float>(tree.sahCost);
     m_statistics.nodes = m_nodes.size();
 }
 
