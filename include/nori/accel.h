@@ -90,9 +90,9 @@ private:
         const InstanceRecord *path[kMaxInstanceDepth];
     };
 
-    /// The closest hit (any hit with anyHit) on the ray's segment, in this Accel's
+    /// The closest hit (any hit with AnyHit) on the ray's segment, in this Accel's
     /// space; `depth` is the number of instances the ray has entered.
-    bool intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const;
+    template <bool AnyHit> bool intersect(const Ray3f &ray, Hit &hit, int depth) const;
     /// Follows the instances a hit lies in: returns the shape the innermost placement
     /// reports (nullptr: the hit shape itself) and, if asked, their composed map from
     /// this Accel's space to the innermost one.

@@ -149,14 +149,14 @@ public:
     size_t nodeCount() const { return m_nodes.size(); }
 
     /// Visits the leaves the ray's segment [ray.mint, tMax] reaches. Closest-hit
-    /// traversal takes a node's children nearest first; with anyHit it takes them in
+    /// traversal takes a node's children nearest first; AnyHit traversal takes them in
     /// stored order, largest box first (the likeliest to hold an occluder), and stops at
     /// the first hit. `intersectLeaf(first, count, tMax)` tests the leaf's primitives in
     /// slots [first, first + count); on a hit it lowers tMax and returns true.
     /// `prefetchLeaf(first, count)` is called for a leaf put on the stack, so that the
     /// caller can bring its primitives into the cache while nearer children are tested.
-    template <typename IntersectLeaf, typename PrefetchLeaf>
-    bool traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectLeaf &&intersectLeaf,
+    template <bool AnyHit, typename IntersectLeaf, typename PrefetchLeaf>
+    bool traverse(const Ray3f &ray, float &tMax, IntersectLeaf &&intersectLeaf,
                   PrefetchLeaf &&prefetchLeaf) const;
 
 private:
@@ -167,8 +167,8 @@ private:
 };
 
 template <int Width>
-template <typename IntersectLeaf, typename PrefetchLeaf>
-bool BVH<Width>::traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectLeaf &&intersectLeaf,
+template <bool AnyHit, typename IntersectLeaf, typename PrefetchLeaf>
+bool BVH<Width>::traverse(const Ray3f &ray, float &tMax, IntersectLeaf &&intersectLeaf,
                           PrefetchLeaf &&prefetchLeaf) const {
     if (m_nodes.empty())
         return false;
@@ -179,6 +179,18 @@ bool BVH<Width>::traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectL
     };
     Entry stack[kStackSize];
     int stackSize = 0;
+    // Puts a child on the stack and brings it into the cache now, overlapping the memory
+    // latency with the subtree visited first.
+    auto push = [&](uint32_t child, float tEntry) {
+        stack[stackSize++] = Entry{child, tEntry};
+        if (!BVHReference::isLeaf(child)) {
+            const char *address = reinterpret_cast<const char *>(&m_nodes[child]);
+            for (size_t line = 0; line < sizeof(Node); line += 64)
+                __builtin_prefetch(address + line);
+        } else {
+            prefetchLeaf(BVHReference::leafFirst(child), BVHReference::leafCount(child));
+        }
+    };
     uint32_t current = 0; // the root node
     bool hit = false;
     while (true) {
@@ -193,42 +205,53 @@ bool BVH<Width>::traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectL
                     current = node.child[first];
                     continue;
                 }
-                // Several children: push them so that the one to visit next is on top.
-                // Closest hit: sorted by entry distance, farthest pushed first (insertion
-                // sort of at most Width); any hit: in stored order, so reversed on the stack.
+                if constexpr (AnyHit) {
+                    // Stored order: the first child next, the others pushed last to first.
+                    current = node.child[first];
+                    while (entered != 0) {
+                        const int i = 31 - __builtin_clz(entered);
+                        entered &= ~(1u << i);
+                        push(node.child[i], distance[i]);
+                    }
+                    continue;
+                }
+                const int second = __builtin_ctz(entered);
+                entered &= entered - 1;
+                if (entered == 0) { // two children: the nearer next, the farther pushed
+                    const bool secondNearer = distance[second] < distance[first];
+                    const int nearer = secondNearer ? second : first;
+                    const int farther = secondNearer ? first : second;
+                    push(node.child[farther], distance[farther]);
+                    current = node.child[nearer];
+                    continue;
+                }
+                // More: pushed sorted by entry distance, farthest deepest (an insertion sort
+                // of at most Width), then the nearest popped.
                 const int base = stackSize;
-                stack[stackSize++] = Entry{node.child[first], distance[first]};
-                while (entered != 0) {
-                    const int i = __builtin_ctz(entered);
-                    entered &= entered - 1;
+                auto insert = [&](int i) {
                     const Entry entry{node.child[i], distance[i]};
                     int position = stackSize++;
-                    for (; !anyHit && position > base && stack[position - 1].tEntry < entry.tEntry;
-                         --position)
+                    for (; position > base && stack[position - 1].tEntry < entry.tEntry; --position)
                         stack[position] = stack[position - 1];
                     stack[position] = entry;
+                };
+                insert(first);
+                insert(second);
+                while (entered != 0) {
+                    insert(__builtin_ctz(entered));
+                    entered &= entered - 1;
                 }
-                if (anyHit)
-                    std::reverse(stack + base, stack + stackSize);
-                // The children left on the stack are needed later: bring them into the
-                // cache now, overlapping the memory latency with the nearest subtree.
-                for (int i = base; i + 1 < stackSize; ++i)
-                    if (!BVHReference::isLeaf(stack[i].child)) {
-                        const char *address =
-                            reinterpret_cast<const char *>(&m_nodes[stack[i].child]);
-                        for (size_t line = 0; line < sizeof(Node); line += 64)
-                            __builtin_prefetch(address + line);
-                    } else {
-                        prefetchLeaf(BVHReference::leafFirst(stack[i].child),
-                                     BVHReference::leafCount(stack[i].child));
-                    }
                 current = stack[--stackSize].child;
+                const int pushed = stackSize;
+                stackSize = base;
+                for (int i = base; i < pushed; ++i)
+                    push(stack[i].child, stack[i].tEntry);
                 continue;
             }
         } else if (const uint32_t count = BVHReference::leafCount(current);
                    count > 0 && intersectLeaf(BVHReference::leafFirst(current), count, tMax)) {
             hit = true;
-            if (anyHit)
+            if constexpr (AnyHit)
                 return true;
         }
         // Pop the next child the ray still reaches: a hit found since it was pushed may
@@ -244,7 +267,7 @@ bool BVH<Width>::traverse(const Ray3f &ray, float &tMax, bool anyHit, IntersectL
 
 template <int Width> NodeRay<Width>::NodeRay(const Ray3f &ray) {
     // Per ray: for each axis, which of a node's two planes is entered first, and o/d, so
-    // that the slab distance (plane − o)/d is one multiply and one subtraction.
+    // that the slab distance (plane − o)/d is plane·(1/d) − o/d, one fused multiply-subtract.
     for (int axis = 0; axis < 3; ++axis) {
         m_invDir[axis] = Simd::broadcast(ray.dRcp[axis]);
         m_originScaled[axis] = Simd::broadcast(ray.o[axis] * ray.dRcp[axis]);
@@ -267,9 +290,9 @@ unsigned NodeRay<Width>::intersect(const BVHNode<Width> &node, float tMax, float
         for (int axis = 0; axis < 3; ++axis) {
             const Lanes nearPlane = Simd::load(&node.bounds[axis][m_nearSide[axis]][first]);
             const Lanes farPlane = Simd::load(&node.bounds[axis][1 - m_nearSide[axis]][first]);
-            const Lanes t0 = Simd::sub(Simd::mul(nearPlane, m_invDir[axis]), m_originScaled[axis]);
-            const Lanes t1 = Simd::mul(
-                Simd::sub(Simd::mul(farPlane, m_invDir[axis]), m_originScaled[axis]), m_farScale);
+            const Lanes t0 = Simd::mulSub(nearPlane, m_invDir[axis], m_originScaled[axis]);
+            const Lanes t1 =
+                Simd::mul(Simd::mulSub(farPlane, m_invDir[axis], m_originScaled[axis]), m_farScale);
             tNear = Simd::max(t0, tNear);
             tFar = Simd::min(t1, tFar);
         }

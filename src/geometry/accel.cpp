@@ -137,7 +137,7 @@ Ray3f Accel::toInstanceSpace(const AffineMap &toLocal, const Ray3f &ray, float t
     return Ray3f(o, d, std::max(ray.mint, dt), tMax);
 }
 
-bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const {
+template <bool AnyHit> bool Accel::intersect(const Ray3f &ray, Hit &hit, int depth) const {
     bool found = false;
     float tBest = ray.maxt;
 
@@ -177,7 +177,7 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
                     const int lane = __builtin_ctz(static_cast<unsigned>(pending));
                     if (consider(base + lane, hits.t[lane],
                                  Point2f(hits.b1[lane], hits.b2[lane])) &&
-                        anyHit)
+                        AnyHit)
                         return true;
                 }
                 for (int pending = (hits.undecided & triangles) | (inLeaf & ~triangles);
@@ -196,7 +196,7 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
                                                 coords.y())
                             : m_shapes[packet.shapeIndex[packetLane]]->rayIntersect(
                                   packet.primIndex[packetLane], ray, t, coords);
-                    if (hit && consider(slot, t, coords) && anyHit)
+                    if (hit && consider(slot, t, coords) && AnyHit)
                         return true;
                 }
                 return false;
@@ -235,9 +235,9 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
                 __builtin_prefetch(line);
         };
         float tLimit = ray.maxt;
-        m_bvh.traverse(ray, tLimit, anyHit, intersectLeaf, prefetchLeaf);
+        m_bvh.traverse<AnyHit>(ray, tLimit, intersectLeaf, prefetchLeaf);
         if (found) {
-            if (anyHit)
+            if (AnyHit)
                 return true;
             hit.t = tBest;
             hit.coords = bestCoords;
@@ -256,14 +256,14 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
             const InstanceRecord &instance = m_instances[slot];
             const Ray3f local = toInstanceSpace(instance.toLocal, ray, tBest);
             if (local.mint > local.maxt ||
-                !m_targets[instance.target]->accel->intersect(local, anyHit, inner, depth + 1))
+                !m_targets[instance.target]->accel->intersect<AnyHit>(local, inner, depth + 1))
                 return false;
             if (found && inner.t == tBest &&
                 (bestInstance == nullptr || bestInstance->order < instance.order))
                 return false;
             found = true;
             bestInstance = &instance;
-            if (anyHit)
+            if (AnyHit)
                 return true;
             hit = inner;
             hit.path[depth] = &instance;
@@ -275,20 +275,20 @@ bool Accel::intersect(const Ray3f &ray, bool anyHit, Hit &hit, int depth) const 
             for (uint32_t slot = first; slot < first + count; ++slot)
                 if (intersectInstance(slot, tLimit)) {
                     hitInLeaf = true;
-                    if (anyHit)
+                    if (AnyHit)
                         return true;
                 }
             return hitInLeaf;
         };
         float tLimit = tBest;
-        m_instanceBvh.traverse(ray, tLimit, anyHit, intersectLeaf, [](uint32_t, uint32_t) {});
+        m_instanceBvh.traverse<AnyHit>(ray, tLimit, intersectLeaf, [](uint32_t, uint32_t) {});
     }
     return found;
 }
 
 bool Accel::closestHit(const Ray3f &ray, float &t, const Shape *&shape, uint32_t &primIndex) const {
     Hit hit;
-    if (!intersect(ray, false, hit, 0))
+    if (!intersect<false>(ray, hit, 0))
         return false;
     t = hit.t;
     const PrimitiveId id = hit.owner->idOf(hit.slot);
@@ -314,7 +314,7 @@ const Shape *Accel::followInstances(const Hit &hit, AffineMap *toLocal) const {
 
 bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) const {
     Hit hit;
-    if (!intersect(ray, shadowRay, hit, 0))
+    if (shadowRay ? !intersect<true>(ray, hit, 0) : !intersect<false>(ray, hit, 0))
         return false;
     if (shadowRay)
         return true;
