@@ -673,7 +673,8 @@ private:
     }
 
     size_t paddedSlots(uint32_t count) const {
-        return (count + m_leafAlignment - 1) / m_leafAlignment * m_leafAlignment;
+        const size_t blocks = (count + m_leafAlignment - 1) / m_leafAlignment;
+        return blocks * m_leafAlignment;
     }
 
     /// The wide node's children, largest area first (ties in the order gathered): an
