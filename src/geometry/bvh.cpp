@@ -89,13 +89,11 @@ struct BuildNode {
 /// clamped to [0, binCount − 1] (clamping before truncation gives the same bin).
 struct BinMapping {
     __m128 origin, scale;
-    /// Fewer bins for fewer primitives, 4 + n/20 up to kBinCount (as Embree's builders
-    /// do): the sweep over the bins costs as much as binning a small node.
     int binCount;
 
-    BinMapping(const SimdBox &centroids, uint32_t count)
-        : origin(centroids.lower),
-          binCount(static_cast<int>(std::min<uint32_t>(BVHBase::kBinCount, 4 + count / 20))) {
+    /// `binCount` bins on each axis over the centroids' bounds.
+    BinMapping(const SimdBox &centroids, int binCount)
+        : origin(centroids.lower), binCount(binCount) {
         // k slightly below binCount/extent, so that the maximum lands in the last bin; an
         // axis without extent gets k = 0 and is not split.
         alignas(16) float extent[4], k[4] = {0, 0, 0, 0};
@@ -206,12 +204,12 @@ constexpr uint32_t kParallelBinThreshold = 65536;
 
 class Builder {
 public:
-    Builder(PrimitiveRefs &refs, float intersectionCost, uint32_t blockSize)
+    Builder(PrimitiveRefs &refs, float intersectionCost, uint32_t blockSize, float rootArea)
         : m_refs(refs),
           // At most 2n − 1 nodes. Default-initialised: BuildNode is trivial, so no page is
           // touched before use (make_unique would zero them all).
           m_nodes(new BuildNode[std::max<size_t>(1, 2 * refs.size())]), // NOLINT
-          m_intersectionCost(intersectionCost), m_blockSize(blockSize) {}
+          m_intersectionCost(intersectionCost), m_blockSize(blockSize), m_rootArea(rootArea) {}
 
     /// Builds the subtree over refs[first, first + count), whose bounds and doubled
     /// centroid bounds are given; returns its node index.
@@ -223,7 +221,7 @@ public:
         node.first = first;
         node.count = count;
         node.leaf = false;
-        const BinMapping mapping(centroids, count);
+        const BinMapping mapping(centroids, binCount(bounds, count));
         Split split;
         const bool found = depth < BVHBase::kSahDepthLimit
                                ? findSahSplit(first, count, bounds, mapping, split)
@@ -292,6 +290,18 @@ private:
         float cost = 0.0f;
         SimdBox leftBounds, rightBounds;
     };
+
+    /// Bins for a node of `count` primitives. A small node far down a large tree bins into
+    /// 4 + n/20 (as Embree's builders do), since the sweep over the bins would cost more
+    /// than binning its few primitives; but a split's share of the tree's cost is the
+    /// node's share of the root's area, so a node of more than 1/1024 of it (the top of a
+    /// tree, and every node of a small scene such as a Cornell box) keeps every bin.
+    int binCount(const SimdBox &bounds, uint32_t count) const {
+        constexpr float kCoarseBinningArea = 1.0f / 1024.0f;
+        if (bounds.box().getSurfaceArea() > kCoarseBinningArea * m_rootArea)
+            return BVHBase::kBinCount;
+        return static_cast<int>(std::min<uint32_t>(BVHBase::kBinCount, 4 + count / 20));
+    }
 
     static float lane(__m128 value, int index) {
         alignas(16) float lanes[4];
@@ -451,6 +461,7 @@ private:
     std::atomic<uint32_t> m_nextNode{0}, m_leafCount{0};
     float m_intersectionCost;
     uint32_t m_blockSize;
+    float m_rootArea;
 };
 
 /// The SAH-optimal collapse of a binary tree into nodes of Width children (Ylitie, Karras
@@ -766,7 +777,7 @@ void BVH<Width>::build(size_t count, const std::function<BoundingBox3f(size_t)> 
     if (refs.empty())
         return;
     m_bounds = rootBounds.box();
-    Builder builder(refs, intersectionCost, leafAlignment);
+    Builder builder(refs, intersectionCost, leafAlignment, m_bounds.getSurfaceArea());
     builder.build(0, static_cast<uint32_t>(refs.size()), rootBounds, rootCentroids, 0);
 
     // Collapse the binary tree into wide nodes in the SAH-optimal way.
