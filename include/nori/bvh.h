@@ -74,7 +74,7 @@ private:
     static_assert(Width % kLanes == 0, "a node's width is a multiple of the SIMD width");
     using Simd = SimdFloats<kLanes>;
     using Lanes = typename Simd::Type;
-    Lanes m_invDir[3], m_originScaled[3], m_farScale, m_segmentStart;
+    Lanes m_invDir[3], m_origin[3], m_farScale, m_segmentStart;
     int m_nearSide[3];
 };
 
@@ -266,15 +266,17 @@ bool BVH<Width>::traverse(const Ray3f &ray, float &tMax, IntersectLeaf &&interse
 }
 
 template <int Width> NodeRay<Width>::NodeRay(const Ray3f &ray) {
-    // Per ray: for each axis, which of a node's two planes is entered first, and o/d, so
-    // that the slab distance (plane − o)/d is plane·(1/d) − o/d, one fused multiply-subtract.
+    // Per ray: for each axis, which of a node's two planes is entered first, the origin
+    // and 1/d.
     for (int axis = 0; axis < 3; ++axis) {
         m_invDir[axis] = Simd::broadcast(ray.dRcp[axis]);
-        m_originScaled[axis] = Simd::broadcast(ray.o[axis] * ray.dRcp[axis]);
+        m_origin[axis] = Simd::broadcast(ray.o[axis]);
         m_nearSide[axis] = ray.dRcp[axis] < 0.0f ? 1 : 0;
     }
-    // Widening the far distance by 2γ₃ keeps the slab test conservative under rounding
-    // (PBR 4th ed. §6.8.2).
+    // A slab distance (plane − o)·(1/d) is within γ₃ of the exact one, relatively, so
+    // widening the far distance by 2γ₃ keeps the test conservative under rounding (PBR 4th
+    // ed. §6.8.2). The form plane·(1/d) − o·(1/d) would save a subtraction per ray, but
+    // its error is absolute, as large as o/d's rounding, which no relative widening covers.
     m_farScale = Simd::broadcast(1.0f + 2.0f * gammaBound(3));
     m_segmentStart = Simd::broadcast(ray.mint);
 }
@@ -290,9 +292,9 @@ unsigned NodeRay<Width>::intersect(const BVHNode<Width> &node, float tMax, float
         for (int axis = 0; axis < 3; ++axis) {
             const Lanes nearPlane = Simd::load(&node.bounds[axis][m_nearSide[axis]][first]);
             const Lanes farPlane = Simd::load(&node.bounds[axis][1 - m_nearSide[axis]][first]);
-            const Lanes t0 = Simd::mulSub(nearPlane, m_invDir[axis], m_originScaled[axis]);
-            const Lanes t1 =
-                Simd::mul(Simd::mulSub(farPlane, m_invDir[axis], m_originScaled[axis]), m_farScale);
+            const Lanes t0 = Simd::mul(Simd::sub(nearPlane, m_origin[axis]), m_invDir[axis]);
+            const Lanes t1 = Simd::mul(
+                Simd::mul(Simd::sub(farPlane, m_origin[axis]), m_invDir[axis]), m_farScale);
             tNear = Simd::max(t0, tNear);
             tFar = Simd::min(t1, tFar);
         }

@@ -9,27 +9,6 @@ namespace nori {
 
 template <int Lanes> struct SimdFloats;
 
-// a·b − c, rounded once where the CPU fuses it (FMA), else twice: for the box test, which
-// stays conservative either way; the triangle test must round as the scalar test does and
-// never uses it.
-#ifdef __FMA__
-inline __m128 fusedMulSub(__m128 a, __m128 b, __m128 c) {
-    return _mm_fmsub_ps(a, b, c);
-}
-inline __m256 fusedMulSub(__m256 a, __m256 b, __m256 c) {
-    return _mm256_fmsub_ps(a, b, c);
-}
-#else
-inline __m128 fusedMulSub(__m128 a, __m128 b, __m128 c) {
-    return _mm_sub_ps(_mm_mul_ps(a, b), c);
-}
-#ifdef __AVX__
-inline __m256 fusedMulSub(__m256 a, __m256 b, __m256 c) {
-    return _mm256_sub_ps(_mm256_mul_ps(a, b), c);
-}
-#endif
-#endif
-
 template <> struct SimdFloats<4> {
     using Type = __m128;
     static constexpr int kLanes = 4;
@@ -40,8 +19,6 @@ template <> struct SimdFloats<4> {
     static Type add(Type a, Type b) { return _mm_add_ps(a, b); }
     static Type sub(Type a, Type b) { return _mm_sub_ps(a, b); }
     static Type mul(Type a, Type b) { return _mm_mul_ps(a, b); }
-    /// a·b − c (see fusedMulSub).
-    static Type mulSub(Type a, Type b, Type c) { return fusedMulSub(a, b, c); }
     static Type div(Type a, Type b) { return _mm_div_ps(a, b); }
     /// For a NaN, max and min return their second operand.
     static Type max(Type a, Type b) { return _mm_max_ps(a, b); }
@@ -80,7 +57,6 @@ template <> struct SimdFloats<8> {
     static Type add(Type a, Type b) { return _mm256_add_ps(a, b); }
     static Type sub(Type a, Type b) { return _mm256_sub_ps(a, b); }
     static Type mul(Type a, Type b) { return _mm256_mul_ps(a, b); }
-    static Type mulSub(Type a, Type b, Type c) { return fusedMulSub(a, b, c); }
     static Type div(Type a, Type b) { return _mm256_div_ps(a, b); }
     static Type max(Type a, Type b) { return _mm256_max_ps(a, b); }
     static Type min(Type a, Type b) { return _mm256_min_ps(a, b); }
