@@ -1,15 +1,17 @@
-# Lookup of the system packages (Debian 12). Everything the renderer links against
-# goes through the interface target nori_ext.
+# Lookup of the system packages (Debian 12). Each area of src/ links the ones it uses
+# (src/CMakeLists.txt).
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(pugixml REQUIRED)
 find_package(TBB REQUIRED)
 find_package(fmt REQUIRED)
 find_package(tinyexr REQUIRED)
 find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
-# Image decoding: libpng and libjpeg-turbo rather than stb_image (see src/core/imagefile.cpp).
+# Image decoding: libpng and libjpeg-turbo rather than stb_image (see src/image/imagefile.cpp).
 find_package(PNG REQUIRED)
 find_package(JPEG REQUIRED)
 find_package(Threads REQUIRED)
+# CLI11 (header-only): the programs' command lines.
+find_package(CLI11 2 REQUIRED)
 # The HTTP server of the browser preview (nori --preview). Debian builds cpp-httplib as a
 # shared library whose classes change with its feature macros (OpenSSL, zlib, Brotli), so
 # its flags come from its pkg-config file rather than being guessed.
@@ -26,8 +28,3 @@ target_include_directories(nori_stb SYSTEM PUBLIC ${STB_INCLUDE_DIR})
 # stb_image_write's JPEG encoder (used by the tests to make JPEG files) left-shifts
 # negative values, which UBSan reports; that is stb's arithmetic, not ours.
 target_compile_options(nori_stb PRIVATE -w -fno-sanitize=shift)
-
-add_library(nori_ext INTERFACE)
-target_link_libraries(nori_ext INTERFACE Eigen3::Eigen pugixml::pugixml TBB::tbb fmt::fmt
-                      tinyexr::tinyexr nori_stb PNG::PNG JPEG::JPEG Threads::Threads
-                      PkgConfig::HTTPLIB nori_nanovdb)

@@ -18,6 +18,7 @@ packages=(
     libfmt-dev              # message formatting
     pkg-config libcpp-httplib-dev  # the HTTP server of the browser preview (--preview)
     libnanovdb-dev          # NanoVDB grid files of heterogeneous media (header-only)
+    libcli11-dev            # the programs' command lines (header-only)
 )
 if [ "${1:-}" = "--test" ]; then
     packages+=(

@@ -4,7 +4,7 @@
 #include "denoiser_scenes.h"
 #include "testutil.h"
 
-#include <nori/denoiser.h>
+#include "denoise/denoiser.h"
 #include <nori/render.h>
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Image decoding (src/core/imagefile.cpp): every format round-trips what our writers
+// Image decoding (src/image/imagefile.cpp): every format round-trips what our writers
 // (stb_image_write, tinyexr) produce, and the hostile files that fuzzing found in
 // Debian's stb_image and tinyexr end in an error naming the file — not a crash, a hang
 // or a leak (the sanitizer build runs these under ASan and LeakSanitizer).

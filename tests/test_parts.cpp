@@ -2,11 +2,11 @@
 // merges that equal the single-process render.
 #include "testutil.h"
 
+#include "app/renderpart.h"
 #include <nori/aov.h>
 #include <nori/bbox.h>
 #include <nori/filesystem.h>
 #include <nori/parser.h>
-#include <nori/renderpart.h>
 
 #include <catch2/catch.hpp>
 

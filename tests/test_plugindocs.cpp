@@ -71,6 +71,13 @@ TEST_CASE("Doc comments parse into name, summary, parameters and examples", "[do
                Contains("has the type 'real'"));
     CHECK_THAT(errorOf([] { parsePluginDoc("/*\n * a — b\n */"); }),
                Contains("neither 'Parameters:' nor 'No parameters'"));
+    // A reflowed comment: the end of one line's meaning joined to the next parameter.
+    CHECK_THAT(errorOf([] {
+                   parsePluginDoc("/*\n * a — b\n *\n * Parameters:\n"
+                                  " *   maxDepth  integer  -1  bounces after the camera ray\n"
+                                  " * (-1: unbounded) rrDepth  integer  3  roulette\n */");
+               }),
+               Contains("names '(-1:', which is not a parameter name"));
 }
 
 TEST_CASE("Every plugin has a doc block with its name and at least one example", "[docs]") {

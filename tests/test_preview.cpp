@@ -1,7 +1,7 @@
 // The preview server's data, through a real HTTP client on loopback: the float image is
 // the published one bit for bit, the status follows the render, the stop flag needs its
 // header. (tests/preview/test_preview.py drives the page itself in a browser.)
-#include <nori/preview.h>
+#include "app/preview.h"
 
 #include <catch2/catch.hpp>
 #include <httplib.h>

@@ -200,7 +200,6 @@ TEST_CASE("A grazing checkerboard at 1 spp: MIP mapping keeps the far-field mean
                                            filter),
                                dir.path().string());
         RenderOptions options;
-        options.showProgress = false;
         return renderScene(*scene, options).image;
     };
     // The far field: rows 66..81, about 60 to 4 units away (the horizon is row 64).

@@ -127,7 +127,6 @@ bool identicalImages(const Bitmap &a, const Bitmap &b) {
 RenderOptions quietOptions(int threads) {
     RenderOptions options;
     options.threads = threads;
-    options.showProgress = false;
     return options;
 }
 

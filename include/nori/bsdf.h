@@ -54,6 +54,9 @@ public:
     /// The textures behind the BSDF's colour and float parameters.
     const TextureParameters &textures() const { return m_textures; }
 
+    /// Becomes the BSDF of a shape or of a tmesh copy it is nested in.
+    bool attachTo(NoriObject &parent, const std::string &name) override;
+
     EClassType getClassType() const override { return kClassType; }
 
 protected:

@@ -111,6 +111,9 @@ public:
     /// The textures behind the emitter's colour and float parameters.
     const TextureParameters &textures() const { return m_textures; }
 
+    /// Becomes the area light of a shape it is nested in.
+    bool attachTo(NoriObject &parent, const std::string &name) override;
+
     EClassType getClassType() const override { return kClassType; }
 
 protected:

@@ -3,8 +3,6 @@
 #pragma once
 
 #include <nori/color.h>
-#include <nori/proplist.h>
-#include <nori/texture.h>
 #include <nori/vector.h>
 
 namespace nori {
@@ -21,21 +19,6 @@ Color3f fresnelConductor(float cosThetaI, const Color3f &eta, const Color3f &k);
 /// η and k (RGB, relative to air) of a named metal: "Au", "Ag", "Cu", "Al" (Mitsuba 0.5's
 /// RGB fits of measured spectra). Throws NoriException listing the names otherwise.
 void lookupConductor(const std::string &name, Color3f &eta, Color3f &k);
-
-/// A conductor's complex index of refraction relative to the outside, η + ik, whose parts
-/// may be textures.
-struct ConductorIOR {
-    std::shared_ptr<const Texture> eta, k;
-    float extIOR = 1.0f;
-    /// The Fresnel reflectance at the query's point for an incident cosine.
-    Color3f fresnel(const TextureQuery &q, float cosThetaI) const;
-};
-
-/// Reads a conductor's complex index from a plugin's properties: `material` (a named
-/// metal) or `eta` and `k` (colours or textures; default: copper), relative to `extIOR`
-/// (default air).
-ConductorIOR readConductorIOR(const PropertyList &props, const std::string &plugin,
-                              TextureParameters &textures);
 
 /// Mirror reflection of w about the normal n (w pointing away from the surface),
 /// renormalised: 2(w·n)n − w of float unit vectors can come out one ulp long, with a

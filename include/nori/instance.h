@@ -10,6 +10,7 @@
 
 #include <nori/accel.h>
 
+#include <functional>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -43,10 +44,11 @@ public:
     static constexpr EClassType kClassType = EMesh;
 
     explicit TMesh(const PropertyList &props);
-    /// Takes one <bsdf>.
+    /// Takes one <bsdf> (which attaches itself through setBSDF).
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     const Transform &toWorld() const { return m_toWorld; }
     const std::shared_ptr<BSDF> &bsdf() const { return m_bsdf; }
+    void setBSDF(std::shared_ptr<BSDF> bsdf);
     std::string toString() const override;
     EClassType getClassType() const override { return kClassType; }
 
@@ -67,8 +69,8 @@ public:
     /// Places every copy into `accel`, then forgets the placements: the records in
     /// `accel` are the only per-copy memory left.
     void placeInto(Accel &accel);
-    /// Whether a copy's BSDF filters a texture over the pixel footprint.
-    bool usesFootprint() const;
+    /// The views of the shape with another BSDF, one per distinct BSDF of the copies.
+    const std::vector<std::shared_ptr<Shape>> &views() const { return m_views; }
 
 private:
     const Shape &m_parent;
@@ -94,9 +96,9 @@ public:
     const Accel &accel() const { return m_accel; }
     /// Every shape added, including invisible templates.
     const std::vector<std::shared_ptr<Shape>> &shapes() const { return m_shapes; }
-    /// Whether some shape it renders, here or through a placement, filters a texture
-    /// over the pixel footprint (Shape::usesFootprint).
-    bool usesFootprint() const { return m_usesFootprint; }
+    /// Calls `visit` on every shape it renders, here or through a placement (the shapes
+    /// of placed groups, the views of tmesh copies), and on invisible templates.
+    void visitShapes(const std::function<void(const Shape &)> &visit) const;
 
 private:
     /// Keeps what a placement refers to alive, once per object.
@@ -105,8 +107,8 @@ private:
     std::vector<std::shared_ptr<Shape>> m_shapes;
     std::vector<std::shared_ptr<const void>> m_placed;
     std::unordered_set<const void *> m_placedSet;
+    std::vector<const ShapeGroup *> m_placedGroups; ///< each once
     Accel m_accel;
-    bool m_usesFootprint = false;
 };
 
 /// <mesh type="shapegroup">: shapes and instances that render only where instances of
@@ -121,7 +123,7 @@ public:
     /// Builds the group's Accel; an empty group is an error.
     void activate() override;
     const Accel::InstanceTarget *target() const { return &m_target; }
-    bool usesFootprint() const { return m_contents.usesFootprint(); }
+    const ShapeCollection &contents() const { return m_contents; }
     std::string toString() const override;
     EClassType getClassType() const override { return kClassType; }
 

@@ -53,6 +53,8 @@ public:
 
     /// Accepts one <phase>.
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
+    /// Fills the side of a shape it is named for ("interior" or "exterior").
+    bool attachTo(NoriObject &parent, const std::string &name) override;
     /// Creates the default isotropic phase function when none was given.
     void activate() override;
 
@@ -92,19 +94,6 @@ private:
     Color3f deltaTracking(const Ray3f &ray, PCG32 &rng) const;
     Color3f ratioTracking(const Ray3f &ray, PCG32 &rng) const;
     Color3f rayMarching(const Ray3f &ray, PCG32 &rng, float stepSize) const;
-};
-
-/// The media on the two sides of a surface, as a shape carries them: `interior` where
-/// the geometric normal points away from, `exterior` where it points to. nullptr is
-/// vacuum.
-struct MediumInterface {
-    const Medium *interior = nullptr;
-    const Medium *exterior = nullptr;
-
-    /// The medium on the side of the surface that direction d (world) points into.
-    const Medium *toward(const Vector3f &d, const Vector3f &geometricNormal) const {
-        return d.dot(geometricNormal) < 0.0f ? interior : exterior;
-    }
 };
 
 } // namespace nori

@@ -5,8 +5,6 @@
 // normals are in the local frame (macro-normal +z).
 #pragma once
 
-#include <nori/proplist.h>
-#include <nori/texture.h>
 #include <nori/vector.h>
 
 #include <string>
@@ -58,30 +56,6 @@ private:
 
     Type m_type;
     float m_alphaX, m_alphaY;
-};
-
-/// A microfacet distribution whose roughness may be a texture: the rough BSDFs build the
-/// distribution of each query point with at().
-class TexturedMicrofacet {
-public:
-    /// Reads `alpha` (a positive float or a float texture) through `textures`; `plugin`
-    /// names the BSDF in errors.
-    TexturedMicrofacet(MicrofacetDistribution::Type type, const PropertyList &props,
-                       TextureParameters &textures, const std::string &plugin);
-
-    /// The distribution at q. Texture values are clamped to at least kMinAlpha, below
-    /// which the lobes underflow in single precision.
-    MicrofacetDistribution at(const TextureQuery &q) const {
-        return MicrofacetDistribution(m_type, std::max(m_alpha->evalFloat(q), kMinAlpha));
-    }
-    MicrofacetDistribution::Type type() const { return m_type; }
-    const Texture &alpha() const { return *m_alpha; }
-
-    static constexpr float kMinAlpha = 1e-4f;
-
-private:
-    MicrofacetDistribution::Type m_type;
-    std::shared_ptr<const Texture> m_alpha;
 };
 
 } // namespace nori

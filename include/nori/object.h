@@ -9,7 +9,7 @@
 
 namespace nori {
 
-class NoriObject {
+class NoriObject : public std::enable_shared_from_this<NoriObject> {
 public:
     enum EClassType {
         EScene = 0,
@@ -36,6 +36,15 @@ public:
     virtual void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name);
     /// Called on a child when it is attached to its parent.
     virtual void setParent(NoriObject *parent) { (void)parent; }
+    /// Offers this object to a parent that takes it without knowing its type: a shape
+    /// (geometry) holds a BSDF, an area light and media (render), which attach
+    /// themselves, so that the lower layer never names the higher one. Returns whether
+    /// it attached; the default attaches nowhere. Needs the object to be owned by a
+    /// shared_ptr (as everything the factory makes is).
+    virtual bool attachTo(NoriObject &parent, const std::string &name) {
+        (void)parent, (void)name;
+        return false;
+    }
     /// Called once all children are attached: compute derived data, check completeness.
     virtual void activate() {}
     virtual std::string toString() const = 0;

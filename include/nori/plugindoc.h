@@ -76,15 +76,6 @@ std::string docCommentOf(NoriObject::EClassType type, const std::string &name);
 
 namespace nori {
 
-/// The registered plugins of one kind ("bsdf", ...) or of every kind (""), a line each
-/// with its summary, grouped by kind: what `nori --list-plugins [KIND]` prints.
-std::string pluginList(const std::string &kind = "");
-/// The whole doc comment of plugin `name`, with its kind and file: what
-/// `nori --list-plugins NAME` prints. Throws NoriException for unknown names.
-std::string pluginReference(const std::string &name);
-/// docs/plugins.md: every plugin of plugins/ with its description, parameter table
-/// and examples.
-std::string pluginsMarkdown();
 /// A source path shortened to where "plugins/" (or "tests/") starts, for messages.
 std::string shortSourcePath(const std::string &sourceFile);
 

@@ -27,12 +27,14 @@ struct RenderOptions {
     int threads = 0;            ///< worker threads; 0 = all cores
     size_t samplesPerPixel = 0; ///< 0 = the scene sampler's own count
     /// The first sample index of every pixel: the render takes indices [firstSample,
-    /// firstSample + samplesPerPixel), a slice of a larger render (see renderpart.h).
+    /// firstSample + samplesPerPixel), a slice of a larger render.
     uint32_t firstSample = 0;
-    /// Also develop the filter weights a part of a split render is merged with
-    /// (Film::develop's withWeights).
-    bool mergeWeights = false;
-    bool showProgress = true; ///< progress bar on stderr
+    /// Also develop the filter weights (Film::develop's withWeights), so that renders of
+    /// disjoint sample slices can be summed exactly.
+    bool keepFilterWeights = false;
+    /// Called (under a lock, from the worker threads) after every finished image block
+    /// with the samples done so far and the total asked for: what a progress bar shows.
+    std::function<void(size_t done, size_t total)> progress;
     /// When it becomes true, no new sample is started and the passes finished so far are
     /// returned (what SIGINT does): the pass under way is dropped.
     const std::atomic<bool> *cancel = nullptr;

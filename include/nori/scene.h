@@ -46,7 +46,7 @@ public:
                             const Point2f &apertureSample) const;
 
     /// Closest intersection along the ray's segment, completed by its shape
-    /// (Shape::completeHit: uvScale, texture footprint, normal or bump map).
+    /// (completeHit in shading.h: uvScale, texture footprint, normal or bump map).
     bool rayIntersect(const Ray3f &ray, Intersection &its) const;
     /// Whether anything blocks the ray's segment (a shadow ray).
     bool rayIntersect(const Ray3f &ray) const;

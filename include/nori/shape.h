@@ -1,20 +1,36 @@
 // Shapes (triangle meshes, analytic spheres) and the record of a ray hitting one.
 // A shape is a set of primitives, so one acceleration structure serves every kind.
+// This is geometry only: what lies on the surface (its BSDF, its area light, the media
+// on either side, its normal or bump map) is attached by those objects themselves
+// (NoriObject::attachTo) and used by the render layer (shading.h), which knows them.
 #pragma once
 
 #include <nori/bbox.h>
 #include <nori/frame.h>
-#include <nori/medium.h>
 #include <nori/object.h>
-#include <nori/texture.h>
 #include <nori/transform.h>
 
 namespace nori {
 
 class BSDF;
 class Emitter;
+class Medium;
 class Shape;
+class SurfaceShading;
 class TMeshSet;
+
+/// The media on the two sides of a surface, as a shape carries them: `interior` where
+/// the geometric normal points away from, `exterior` where it points to. nullptr is
+/// vacuum.
+struct MediumInterface {
+    const Medium *interior = nullptr;
+    const Medium *exterior = nullptr;
+
+    /// The medium on the side of the surface that direction d (world) points into.
+    const Medium *toward(const Vector3f &d, const Vector3f &geometricNormal) const {
+        return d.dot(geometricNormal) < 0.0f ? interior : exterior;
+    }
+};
 
 /// A point sampled on a shape's surface.
 struct ShapeSample {
@@ -86,16 +102,6 @@ public:
     /// Total surface area.
     virtual float getArea() const = 0;
 
-    /// What the scene does to every hit after setHitInformation: applies uvScale,
-    /// computes the pixel footprint from the ray's differentials, then perturbs the
-    /// shading frame by the normal map or bump map, if any.
-    void completeHit(const Ray3f &ray, Intersection &its) const;
-    /// Whether a texture of the shape (its maps, its BSDF's or its light's) is filtered
-    /// over the pixel footprint, so rays hitting it need differentials.
-    bool usesFootprint() const;
-    /// uv as textures see them (scaled by uvScale), for points that did not come from a
-    /// ray hit (a sampled point of an area light).
-    Point2f textureUV(const Point2f &uv) const { return uv.cwiseProduct(m_uvScale); }
     /// A point uniformly distributed over the surface (pdf = 1/area).
     virtual ShapeSample sampleSurface(const Point2f &sample) const = 0;
     /// A point on the surface as seen from `ref`, with its pdf in solid angle at ref. The
@@ -108,12 +114,16 @@ public:
     /// Whether the shape renders itself (`visible`, default true): an invisible shape is
     /// a template that only its tmesh copies place.
     bool isVisible() const { return m_visible; }
+    void setVisible(bool visible) { m_visible = visible; }
     /// The shape's <mesh type="tmesh"> copies, or nullptr without any.
     const std::shared_ptr<TMeshSet> &tmeshes() const { return m_tmeshes; }
 
     const BoundingBox3f &getBoundingBox() const { return m_bbox; }
     const BSDF *getBSDF() const { return m_bsdf.get(); }
     std::shared_ptr<BSDF> getBSDFPtr() const { return m_bsdf; }
+    /// The uv scale and normal or bump map of the surface (shading.h), or nullptr.
+    const SurfaceShading *getSurfaceShading() const { return m_shading.get(); }
+    std::shared_ptr<const SurfaceShading> getSurfaceShadingPtr() const { return m_shading; }
     /// The media inside and outside the surface (nullptr: vacuum).
     MediumInterface getMediumInterface() const { return {m_interior.get(), m_exterior.get()}; }
     /// Whether the shape bounds a medium (an `interior` or `exterior` child): rays crossing
@@ -126,9 +136,17 @@ public:
     const Emitter *getEmitter() const { return m_emitter.get(); }
     std::shared_ptr<Emitter> getEmitterPtr() const { return m_emitter; }
 
-    /// Accepts one <bsdf>, one <emitter> (which becomes an area light on the shape), a
-    /// <medium> named "interior" and one named "exterior", and any number of
-    /// <mesh type="tmesh"> copies.
+    /// The slots that the objects on the surface fill when they attach themselves
+    /// (BSDF::attachTo and the like); each throws when its slot is already taken.
+    void setBSDF(std::shared_ptr<BSDF> bsdf);
+    void setEmitter(std::shared_ptr<Emitter> emitter);
+    /// `side` is "interior" or "exterior".
+    void setMedium(const std::string &side, std::shared_ptr<Medium> medium);
+    void setSurfaceShading(std::shared_ptr<const SurfaceShading> shading);
+
+    /// Accepts any number of <mesh type="tmesh"> copies, and every child that attaches
+    /// itself to a shape: one <bsdf>, one <emitter> (an area light on the shape), a
+    /// <medium> named "interior" and one named "exterior".
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     /// Gives a shape without a BSDF the default diffuse one (Nori's behaviour), or the
     /// `null` one when it bounds a medium; warns when a medium boundary is not closed;
@@ -139,17 +157,8 @@ public:
     EClassType getClassType() const override { return kClassType; }
 
 protected:
-    /// Reads the parameters every shape plugin shares: `uvScale` (a float or 2D vector),
-    /// a `normal` texture (tangent space, decoded as 2c − 1) or a `bump` texture (a
-    /// height, scaled by `bumpScale`). Shape plugins call it from their constructor.
-    void readSurfaceParameters(const PropertyList &props);
-    /// Takes over another shape's uvScale and normal or bump map (for views of it).
-    void copySurfaceParameters(const Shape &other);
-
     BoundingBox3f m_bbox;
-    Vector2f m_uvScale = Vector2f(1.0f, 1.0f);
-    std::shared_ptr<const Texture> m_normalMap, m_bumpMap;
-    float m_bumpScale = 1.0f;
+    std::shared_ptr<const SurfaceShading> m_shading;
     std::shared_ptr<BSDF> m_bsdf;
     std::shared_ptr<Emitter> m_emitter;
     std::shared_ptr<Medium> m_interior, m_exterior;

@@ -15,6 +15,8 @@ int toInt(const std::string &text, const std::string &what = "integer");
 /// Parses a list of floats separated by commas and/or white space.
 std::vector<float> toFloatList(const std::string &text, const std::string &what = "value");
 std::string toLower(std::string text);
+/// The text without its leading and trailing spaces and tabs.
+std::string trim(const std::string &text);
 bool endsWith(const std::string &text, const std::string &suffix);
 
 /// Edit distance with adjacent transpositions (optimal string alignment), case-insensitive.

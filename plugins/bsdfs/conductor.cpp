@@ -11,6 +11,7 @@
  *   <bsdf type="conductor"><string name="material" value="Au"/></bsdf>
  */
 #include <nori/bsdf.h>
+#include <nori/bsdfparams.h>
 #include <nori/frame.h>
 #include <nori/fresnel.h>
 

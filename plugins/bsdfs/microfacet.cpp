@@ -12,6 +12,7 @@
  *   <bsdf type="microfacet"><float name="alpha" value="0.2"/></bsdf>
  */
 #include <nori/bsdf.h>
+#include <nori/bsdfparams.h>
 #include <nori/frame.h>
 #include <nori/fresnel.h>
 #include <nori/microfacet.h>

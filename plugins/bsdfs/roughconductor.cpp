@@ -13,6 +13,7 @@
  *       <float name="alpha" value="0.3"/></bsdf>
  */
 #include <nori/bsdf.h>
+#include <nori/bsdfparams.h>
 #include <nori/frame.h>
 #include <nori/fresnel.h>
 #include <nori/microfacet.h>

@@ -18,6 +18,7 @@
 #include <nori/emitter.h>
 #include <nori/frame.h>
 #include <nori/rayerror.h>
+#include <nori/shading.h>
 #include <nori/shape.h>
 #include <nori/warp.h>
 
@@ -37,7 +38,7 @@ public:
         const ShapeSample point = m_shape->sampleFromReference(lRec.ref, sample);
         lRec.p = point.p;
         lRec.n = point.n;
-        lRec.uv = m_shape->textureUV(point.uv);
+        lRec.uv = textureUV(*m_shape, point.uv);
         const Vector3f toLight = lRec.p - lRec.ref;
         const float distance = toLight.norm();
         if (distance == 0.0f || point.pdf <= 0.0f)
@@ -73,7 +74,7 @@ public:
         EmitterQueryRecord lRec;
         lRec.p = point.p;
         lRec.n = point.n;
-        lRec.uv = m_shape->textureUV(point.uv);
+        lRec.uv = textureUV(*m_shape, point.uv);
         // The sampled point carries the rounding of interpolating the shape's vertices:
         // bound it by the shape's extent (PBR 4th ed. §6.8.5) and leave past it.
         const BoundingBox3f &box = m_shape->getBoundingBox();

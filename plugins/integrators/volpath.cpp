@@ -9,8 +9,9 @@
  * each strategy unbiased (PBR 3rd ed. §15.3.1). Surfaces are treated as path_mis does.
  *
  * Parameters:
- *   maxDepth       integer  -1       scattering events (surface or medium) after the camera ray
- * (-1: unbounded) rrDepth        integer  3        Russian roulette from this event on
+ *   maxDepth       integer  -1       scattering events (surface or medium) after the camera
+ *                                    ray (-1: unbounded)
+ *   rrDepth        integer  3        Russian roulette from this event on
  *   transmittance  string   "ratio"  shadow-ray estimator: "delta", "ratio" or "raymarch"
  *   stepSize       float    (required with raymarch)  ray-marching step, in world units
  *   singleScatter  boolean  false    light scatters at most once in a medium: the path ends
@@ -24,7 +25,7 @@
 #include <nori/emitter.h>
 #include <nori/hash.h>
 #include <nori/medium.h>
-#include <nori/pathtracer.h>
+#include <nori/pathtracing.h>
 #include <nori/phase.h>
 #include <nori/raydifferential.h>
 #include <nori/sampler.h>
@@ -36,14 +37,8 @@ namespace nori {
 
 class VolumetricPathTracer : public Integrator {
 public:
-    explicit VolumetricPathTracer(const PropertyList &props) {
-        m_maxDepth = props.getInteger("maxDepth", -1);
-        m_rrDepth = props.getInteger("rrDepth", 3);
-        if (m_maxDepth == 0 || m_maxDepth < -1)
-            throw NoriException("volpath: 'maxDepth' must be positive or -1 (unbounded), got {}",
-                                m_maxDepth);
-        if (m_rrDepth < 1)
-            throw NoriException("volpath: 'rrDepth' must be at least 1, got {}", m_rrDepth);
+    explicit VolumetricPathTracer(const PropertyList &props)
+        : m_depth(PathDepth::read(props, "volpath")) {
         const std::string estimator = props.getString("transmittance", "ratio");
         if (estimator == "delta") {
             m_estimator = TransmittanceEstimator::Delta;
@@ -88,7 +83,7 @@ public:
                 if ((throughput <= 0.0f).all())
                     break;
                 if (mRec.scattered) {
-                    if (m_maxDepth > 0 && depth >= m_maxDepth)
+                    if (!m_depth.mayScatter(depth))
                         break;
                     const float emitterSample = sampler->next1D();
                     const Point2f lightSample = sampler->next2D();
@@ -110,7 +105,7 @@ public:
                     previous = mRec.p;
                     ray = Ray3f(mRec.p, pRec.wo, 0.0f, kInfinity);
                     nullCrossings = 0;
-                    if (!russianRoulette(++depth, throughput, rouletteSample))
+                    if (!russianRoulette(++depth, m_depth.rrDepth, throughput, rouletteSample))
                         break;
                     continue;
                 }
@@ -143,7 +138,7 @@ public:
                 continue;
             }
 
-            if (m_maxDepth > 0 && depth >= m_maxDepth)
+            if (!m_depth.mayScatter(depth))
                 break;
             // The same dimensions in the same order as path_mis draws them.
             const float emitterSample = sampler->next1D();
@@ -172,7 +167,7 @@ public:
             medium = mediumBehind(its, wo, medium);
             ray = spawnScatteredRay(its, ray, bRec);
             nullCrossings = 0;
-            if (!russianRoulette(++depth, throughput, rouletteSample))
+            if (!russianRoulette(++depth, m_depth.rrDepth, throughput, rouletteSample))
                 break;
         }
         return radiance;
@@ -182,7 +177,7 @@ public:
         static const char *names[] = {"delta", "ratio", "raymarch"};
         return fmt::format("VolumetricPathTracer[maxDepth={}, rrDepth={}, transmittance={}{}, "
                            "singleScatter={}]",
-                           m_maxDepth, m_rrDepth, names[int(m_estimator)],
+                           m_depth.maxDepth, m_depth.rrDepth, names[int(m_estimator)],
                            m_estimator == TransmittanceEstimator::RayMarch
                                ? fmt::format(" (stepSize={})", m_stepSize)
                                : "",
@@ -206,17 +201,6 @@ private:
         if (!its.shape->hasMediumInterface())
             return current;
         return its.shape->getMediumInterface().toward(d, its.geoFrame.n);
-    }
-
-    /// Russian roulette after `depth` events: continue with probability q (dividing by it).
-    bool russianRoulette(int depth, Color3f &throughput, float sample) const {
-        if (depth < m_rrDepth)
-            return true;
-        const float q = std::min(0.99f, throughput.maxCoeff());
-        if (sample >= q)
-            return false;
-        throughput /= q;
-        return true;
     }
 
     /// The transmittance along `ray` (unit direction, ending short of the light) from a
@@ -269,12 +253,12 @@ private:
         float weight = 1.0f;
         if (!m_singleScatter && !emitter->isDelta()) {
             const float lightPdf = pmf * lRec.pdf;
-            weight = lightPdf / (lightPdf + phase.pdf(pRec));
+            weight = balanceHeuristic(lightPdf, phase.pdf(pRec));
         }
         return f * radianceOverPdf * transmittance * weight;
     }
 
-    int m_maxDepth, m_rrDepth;
+    PathDepth m_depth;
     TransmittanceEstimator m_estimator = TransmittanceEstimator::Ratio;
     float m_stepSize = 0.0f;
     bool m_singleScatter;

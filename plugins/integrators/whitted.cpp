@@ -10,7 +10,7 @@
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/integrator.h>
-#include <nori/pathtracer.h>
+#include <nori/pathtracing.h>
 #include <nori/raydifferential.h>
 #include <nori/sampler.h>
 #include <nori/scene.h>

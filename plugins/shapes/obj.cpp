@@ -32,6 +32,7 @@
  */
 #include <nori/filesystem.h>
 #include <nori/mesh.h>
+#include <nori/shading.h>
 #include <nori/strutil.h>
 
 #include <map>
@@ -169,7 +170,7 @@ public:
     explicit WavefrontOBJ(const PropertyList &props) {
         m_name = props.getPath("filename");
         const Transform toWorld = props.getTransform("toWorld", Transform());
-        readSurfaceParameters(props);
+        readSurfaceParameters(*this, props);
 
         std::istringstream in(readTextFile(m_name, "OBJ mesh file"));
         ObjParser parser(m_name);

@@ -24,6 +24,7 @@
  *   </mesh>
  */
 #include <nori/rayerror.h>
+#include <nori/shading.h>
 #include <nori/shape.h>
 #include <nori/warp.h>
 
@@ -35,7 +36,7 @@ public:
         m_center = props.getPoint("center", Point3f(0.0f));
         m_radius = props.getFloat("radius", 1.0f);
         m_flipNormals = props.getBoolean("flipNormals", false);
-        readSurfaceParameters(props);
+        readSurfaceParameters(*this, props);
         if (!(m_radius > 0.0f) || !std::isfinite(m_radius))
             throw NoriException("sphere: 'radius' must be positive, got {}", m_radius);
         m_bbox = BoundingBox3f(m_center - Vector3f(m_radius), m_center + Vector3f(m_radius));

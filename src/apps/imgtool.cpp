@@ -1,10 +1,10 @@
 // nori-imgtool: operations on rendered images: `denoise` runs the built-in denoiser on a
 // multi-layer EXR written by `nori --aovs ...`; `diff` compares a render with a reference;
 // `convert` changes an image's format; `info` prints its size, layers and statistics.
-#include <nori/denoiser.h>
+#include "app/cli.h"
+#include "denoise/denoiser.h"
 #include <nori/imagefile.h>
 #include <nori/layeredimage.h>
-#include <nori/program.h>
 #include <nori/strutil.h>
 
 #include <cmath>
@@ -15,82 +15,33 @@ using namespace nori;
 
 namespace {
 
-const char *kUsage = R"(Usage: nori-imgtool <command> [options]
-
-Commands:
-  denoise IN.exr [-o OUT] [--threads N]
-      Denoises the beauty of IN.exr, a render with the layers albedo, normal, depth and
-      variance (nori --denoise, or nori --aovs albedo,normal,depth,variance), and writes
-      OUT.exr and OUT.png (default OUT: IN_denoised beside IN). IN is left as it is.
-
-  diff IMAGE REFERENCE [--layer NAME] [--crop X,Y,W,H] [--tolerance T] [--metric M]
-       [--out ERROR.png]
-      Compares IMAGE with REFERENCE (EXR, PFM, HDR, PNG, JPEG; of one size) and prints
-      one `key value` per line: rmse, relmse (Σ(a−b)²/(b²+0.01), per channel), maxabs,
-      psnr (dB, the peak being REFERENCE's largest value or 1), pixels, differing (pixels
-      not equal). --layer compares an AOV layer of two EXRs (default: the beauty);
-      --crop only the W×H pixels from column X, row Y (a region of interest).
-      --out writes the per-pixel absolute error in false colour (black, red, yellow,
-      white up to the largest error). With --tolerance, exits 1 when the metric M (rmse,
-      relmse or maxabs; default relmse) exceeds T.
-
-  convert IN OUT [--layer NAME] [--exposure EV] [--encoding srgb|linear]
-      Writes IN (EXR, PFM, HDR, PNG, JPEG) as OUT, in the format of OUT's extension:
-      .exr, .pfm, .hdr (linear floats) or .png (8 bits). --layer picks an AOV layer of
-      an EXR (default: the beauty); --exposure scales the values by 2^EV; --encoding
-      says how 8-bit files (PNG, JPEG in; PNG out) encode values: sRGB (the default,
-      as for display) or linear (data such as normal maps).
-
-  info IMAGE [--layer NAME]
-      Prints one `key value` per line: file, width, height, layers (EXR; `(beauty)` is
-      the R, G, B layer), then for each layer (or the one named) its statistics, keyed
-      by the layer's name and a dot (none for the beauty): channels, min, max and mean
-      (per channel, over finite values; 8-bit files: the stored values in [0, 1]), nan
-      and inf (counts of values).
-)";
-
-/// Reads a command's arguments in order; an option's value is the argument after it.
-class ArgumentReader {
-public:
-    ArgumentReader(const std::vector<std::string> &arguments, std::string command)
-        : m_arguments(arguments), m_command(std::move(command)) {}
-    bool more() const { return m_next < m_arguments.size(); }
-    const std::string &next() { return m_arguments[m_next++]; }
-    /// The value after option `flag`; throws naming it when there is none.
-    const std::string &valueOf(const std::string &flag) {
-        if (!more())
-            throw NoriException("{}: option {} needs a value", m_command, flag);
-        return next();
-    }
-
-private:
-    const std::vector<std::string> &m_arguments;
-    std::string m_command;
-    size_t m_next = 0;
+/// The options of each command, as the command line gives them.
+struct DenoiseOptions {
+    std::string input, output;
+    int threads = 0;
+};
+struct DiffOptions {
+    std::vector<std::string> files;
+    std::string layer, errorImage, metric = "relmse", crop;
+    double tolerance = -1.0;
+};
+struct ConvertOptions {
+    std::vector<std::string> files;
+    std::string layer, encoding = "srgb";
+    float exposure = 0.0f;
+};
+struct InfoOptions {
+    std::string file, layer;
 };
 
-int denoiseCommand(const std::vector<std::string> &arguments) {
-    std::string input, output;
+int denoiseCommand(const DenoiseOptions &options) {
+    const std::string &input = options.input, &output = options.output;
     DenoiserSettings settings;
-    for (ArgumentReader reader(arguments, "denoise"); reader.more();) {
-        const std::string arg = reader.next();
-        const auto value = [&] { return reader.valueOf(arg); };
-        if (arg == "-o" || arg == "--output") {
-            output = value();
-        } else if (arg == "-t" || arg == "--threads") {
-            settings.threads = toInt(value(), arg);
-            if (settings.threads <= 0)
-                throw NoriException("denoise: {} must be a positive integer", arg);
-        } else if (!arg.empty() && arg[0] == '-') {
-            throw NoriException("denoise: unknown option '{}'", arg);
-        } else if (input.empty()) {
-            input = arg;
-        } else {
-            throw NoriException("denoise: more than one input ('{}' and '{}')", input, arg);
-        }
+    if (options.threads != 0) {
+        settings.threads = options.threads;
+        if (settings.threads <= 0)
+            throw NoriException("denoise: --threads must be a positive integer");
     }
-    if (input.empty())
-        throw NoriException("denoise: no input file (see nori-imgtool --help)");
     std::filesystem::path stem(output.empty() ? input : output);
     const std::string extension = toLower(stem.extension().string());
     if (extension == ".exr" || extension == ".png")
@@ -162,34 +113,15 @@ Color3f falseColor(float t) {
                    std::clamp(t - 2.0f, 0.0f, 1.0f));
 }
 
-int diffCommand(const std::vector<std::string> &arguments) {
-    std::vector<std::string> files;
-    std::string layer, errorImage, metric = "relmse", crop;
-    double tolerance = -1.0;
-    for (ArgumentReader reader(arguments, "diff"); reader.more();) {
-        const std::string arg = reader.next();
-        const auto value = [&] { return reader.valueOf(arg); };
-        if (arg == "--layer") {
-            layer = value();
-        } else if (arg == "--crop") {
-            crop = value();
-        } else if (arg == "--out") {
-            errorImage = value();
-        } else if (arg == "--metric") {
-            metric = value();
-            if (metric != "rmse" && metric != "relmse" && metric != "maxabs")
-                throw NoriException("diff: --metric must be rmse, relmse or maxabs, got '{}'",
-                                    metric);
-        } else if (arg == "--tolerance") {
-            tolerance = toFloat(value(), arg);
-            if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
-                throw NoriException("diff: --tolerance must be a non-negative number");
-        } else if (!arg.empty() && arg[0] == '-') {
-            throw NoriException("diff: unknown option '{}'", arg);
-        } else {
-            files.push_back(arg);
-        }
-    }
+int diffCommand(const DiffOptions &options) {
+    const std::vector<std::string> &files = options.files;
+    const std::string &layer = options.layer, &errorImage = options.errorImage,
+                      &metric = options.metric, &crop = options.crop;
+    const double tolerance = options.tolerance;
+    if (metric != "rmse" && metric != "relmse" && metric != "maxabs")
+        throw NoriException("diff: --metric must be rmse, relmse or maxabs, got '{}'", metric);
+    if (tolerance != -1.0 && (!(tolerance >= 0.0) || !std::isfinite(tolerance)))
+        throw NoriException("diff: --tolerance must be a non-negative number");
     if (files.size() != 2)
         throw NoriException("diff: expects two images, IMAGE and REFERENCE (got {})", files.size());
     Bitmap image = loadImage(files[0], layer, true, "diff"),
@@ -241,30 +173,15 @@ int diffCommand(const std::vector<std::string> &arguments) {
     return 0;
 }
 
-int convertCommand(const std::vector<std::string> &arguments) {
-    std::vector<std::string> files;
-    std::string layer, encoding = "srgb";
-    float exposure = 0.0f;
-    for (ArgumentReader reader(arguments, "convert"); reader.more();) {
-        const std::string arg = reader.next();
-        const auto value = [&] { return reader.valueOf(arg); };
-        if (arg == "--layer") {
-            layer = value();
-        } else if (arg == "--exposure") {
-            exposure = toFloat(value(), arg);
-            if (!std::isfinite(exposure) || std::abs(exposure) > 100.0f)
-                throw NoriException("convert: --exposure must be a number of stops in [-100, 100]");
-        } else if (arg == "--encoding") {
-            encoding = value();
-        } else if (!arg.empty() && arg[0] == '-') {
-            throw NoriException("convert: unknown option '{}'", arg);
-        } else {
-            files.push_back(arg);
-        }
-    }
+int convertCommand(const ConvertOptions &options) {
+    const std::vector<std::string> &files = options.files;
+    const std::string &layer = options.layer;
+    const float exposure = options.exposure;
+    if (!std::isfinite(exposure) || std::abs(exposure) > 100.0f)
+        throw NoriException("convert: --exposure must be a number of stops in [-100, 100]");
     if (files.size() != 2)
         throw NoriException("convert: expects IN and OUT (got {} files)", files.size());
-    const bool srgb = isSRGBEncoding(encoding, "convert");
+    const bool srgb = isSRGBEncoding(options.encoding, "convert");
     const std::string extension = toLower(std::filesystem::path(files[1]).extension().string());
     if (extension != ".exr" && extension != ".pfm" && extension != ".hdr" && extension != ".png")
         throw NoriException("convert: cannot write '{}': the output's extension must be .exr, "
@@ -319,24 +236,8 @@ void printLayerStatistics(const std::string &prefix, const std::vector<std::stri
                infinities);
 }
 
-int infoCommand(const std::vector<std::string> &arguments) {
-    std::string file, layer;
-    bool layerGiven = false;
-    for (ArgumentReader reader(arguments, "info"); reader.more();) {
-        const std::string arg = reader.next();
-        if (arg == "--layer") {
-            layer = reader.valueOf(arg);
-            layerGiven = true;
-        } else if (!arg.empty() && arg[0] == '-') {
-            throw NoriException("info: unknown option '{}'", arg);
-        } else if (file.empty()) {
-            file = arg;
-        } else {
-            throw NoriException("info: one image at a time ('{}' and '{}')", file, arg);
-        }
-    }
-    if (file.empty())
-        throw NoriException("info: no image file (see nori-imgtool --help)");
+int infoCommand(const InfoOptions &options, bool layerGiven) {
+    const std::string &file = options.file, &layer = options.layer;
     LayeredImage image;
     if (toLower(std::filesystem::path(file).extension().string()) == ".exr") {
         image = LayeredImage::loadEXR(file);
@@ -373,30 +274,97 @@ int infoCommand(const std::vector<std::string> &arguments) {
     return 0;
 }
 
-int run(int argc, char **argv) {
-    const std::vector<std::string> arguments(argv + 1, argv + argc);
-    if (arguments.empty()) {
-        fmt::print(stderr, "{}", kUsage);
-        return 1;
-    }
-    const std::string &command = arguments[0];
-    if (command == "-h" || command == "--help") {
-        fmt::print("{}", kUsage);
-        return 0;
-    }
-    if (command == "denoise")
-        return denoiseCommand({arguments.begin() + 1, arguments.end()});
-    if (command == "diff")
-        return diffCommand({arguments.begin() + 1, arguments.end()});
-    if (command == "convert")
-        return convertCommand({arguments.begin() + 1, arguments.end()});
-    if (command == "info")
-        return infoCommand({arguments.begin() + 1, arguments.end()});
-    throw NoriException("unknown command '{}' (see nori-imgtool --help)", command);
-}
-
 } // namespace
 
 int main(int argc, char **argv) {
-    return runProgram([&] { return run(argc, argv); });
+    CLI::App app("Operations on rendered images.", "nori-imgtool");
+    configureCommandLine(app);
+    app.require_subcommand(1);
+
+    DenoiseOptions denoiseOptions;
+    CLI::App *denoise = app.add_subcommand(
+        "denoise", "Denoises the beauty of IN.exr, a render with the layers albedo, normal, "
+                   "depth and variance (nori --denoise, or nori --aovs "
+                   "albedo,normal,depth,variance), and writes OUT.exr and OUT.png.");
+    configureCommandLine(*denoise);
+    denoise->add_option("input", denoiseOptions.input, "the render")
+        ->type_name("IN.exr")
+        ->required();
+    denoise
+        ->add_option("-o,--output", denoiseOptions.output,
+                     "OUT (default: IN_denoised beside IN); IN is left as it is")
+        ->type_name("OUT");
+    denoise->add_option("-t,--threads", denoiseOptions.threads, "threads (default: all cores)")
+        ->type_name("N");
+
+    DiffOptions diffOptions;
+    CLI::App *diff = app.add_subcommand(
+        "diff", "Compares IMAGE with REFERENCE (EXR, PFM, HDR, PNG, JPEG; of one size) and "
+                "prints one `key value` per line: rmse, relmse (Σ(a−b)²/(b²+0.01), per "
+                "channel), maxabs, psnr (dB, the peak being REFERENCE's largest value or 1), "
+                "pixels, differing (pixels not equal).");
+    configureCommandLine(*diff);
+    diff->add_option("files", diffOptions.files, "the render and the reference")
+        ->type_name("IMAGE REFERENCE")
+        ->expected(2)
+        ->required();
+    diff->add_option("--layer", diffOptions.layer,
+                     "compare an AOV layer of two EXRs (default: the beauty)")
+        ->type_name("NAME");
+    diff->add_option("--crop", diffOptions.crop,
+                     "compare only the W×H pixels from column X, row Y (a region of interest)")
+        ->type_name("X,Y,W,H");
+    diff->add_option("--tolerance", diffOptions.tolerance, "exit 1 when the metric exceeds T")
+        ->type_name("T");
+    diff->add_option("--metric", diffOptions.metric,
+                     "the metric --tolerance bounds: rmse, relmse (default) or maxabs")
+        ->type_name("M");
+    diff->add_option("--out", diffOptions.errorImage,
+                     "write the per-pixel absolute error in false colour (black, red, yellow, "
+                     "white up to the largest error)")
+        ->type_name("ERROR.png");
+
+    ConvertOptions convertOptions;
+    CLI::App *convert = app.add_subcommand(
+        "convert", "Writes IN (EXR, PFM, HDR, PNG, JPEG) as OUT, in the format of OUT's "
+                   "extension: .exr, .pfm, .hdr (linear floats) or .png (8 bits).");
+    configureCommandLine(*convert);
+    convert->add_option("files", convertOptions.files, "the image and the file to write")
+        ->type_name("IN OUT")
+        ->expected(2)
+        ->required();
+    convert
+        ->add_option("--layer", convertOptions.layer,
+                     "an AOV layer of an EXR (default: the beauty)")
+        ->type_name("NAME");
+    convert->add_option("--exposure", convertOptions.exposure, "scale the values by 2^EV")
+        ->type_name("EV");
+    convert
+        ->add_option("--encoding", convertOptions.encoding,
+                     "how 8-bit files (PNG, JPEG in; PNG out) encode values: srgb (the "
+                     "default, as for display) or linear (data such as normal maps)")
+        ->type_name("srgb|linear");
+
+    InfoOptions infoOptions;
+    CLI::App *info = app.add_subcommand(
+        "info", "Prints one `key value` per line: file, width, height, layers (EXR; `(beauty)` "
+                "is the R, G, B layer), then for each layer (or the one named) its statistics, "
+                "keyed by the layer's name and a dot (none for the beauty): channels, min, max "
+                "and mean (per channel, over finite values; 8-bit files: the stored values in "
+                "[0, 1]), nan and inf (counts of values).");
+    configureCommandLine(*info);
+    info->add_option("image", infoOptions.file, "the image")->type_name("IMAGE")->required();
+    CLI::Option *infoLayer =
+        info->add_option("--layer", infoOptions.layer, "only this layer")->type_name("NAME");
+    wrapDescriptions(app);
+
+    return runCommandLine(app, argc, argv, [&] {
+        if (denoise->parsed())
+            return denoiseCommand(denoiseOptions);
+        if (diff->parsed())
+            return diffCommand(diffOptions);
+        if (convert->parsed())
+            return convertCommand(convertOptions);
+        return infoCommand(infoOptions, infoLayer->count() > 0);
+    });
 }

@@ -1,9 +1,8 @@
 // nori-lensinfo: what a lens file describes, and how well the realistic camera samples it.
-//   nori-lensinfo LENS.dat [--focus METRES] [--aperture MM] [--film-diagonal MM]
-//                          [--width PIXELS] [--height PIXELS]
 // Prints the effective focal length, cardinal points, nearest focus distance, the film
 // distance after focusing, the exit pupil at a few film radii, and the fraction of
 // camera rays the lens blocks with exit-pupil sampling and without it.
+#include "app/cli.h"
 #include <nori/common.h>
 #include <nori/lenssystem.h>
 #include <nori/strutil.h>
@@ -23,48 +22,18 @@ struct Options {
     int width = 1280, height = 720;
 };
 
-Options parseArguments(int argc, char **argv) {
-    Options options;
-    for (int i = 1; i < argc; ++i) {
-        const std::string argument = argv[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= argc)
-                throw NoriException("{} needs a value", argument);
-            return argv[++i];
-        };
-        if (argument == "--focus")
-            options.focus = toFloat(value(), "--focus");
-        else if (argument == "--aperture")
-            options.aperture = toFloat(value(), "--aperture");
-        else if (argument == "--film-diagonal")
-            options.filmDiagonal = toFloat(value(), "--film-diagonal");
-        else if (argument == "--width")
-            options.width = toInt(value(), "--width");
-        else if (argument == "--height")
-            options.height = toInt(value(), "--height");
-        else if (!argument.empty() && argument[0] == '-')
-            throw NoriException("unknown option '{}'", argument);
-        else if (options.lensFile.empty())
-            options.lensFile = argument;
-        else
-            throw NoriException("one lens file at a time, got '{}' and '{}'", options.lensFile,
-                                argument);
-    }
-    if (options.lensFile.empty())
-        throw NoriException("usage: nori-lensinfo LENS.dat [--focus METRES] [--aperture MM] "
-                            "[--film-diagonal MM] [--width PIXELS] [--height PIXELS]");
+void checkOptions(const Options &options) {
     if (!(options.focus > 0.0 && options.filmDiagonal > 0.0 && options.aperture >= 0.0 &&
           options.width > 0 && options.height > 0))
         throw NoriException("--focus, --film-diagonal, --width and --height must be positive, "
                             "--aperture not negative");
-    return options;
 }
 
 } // namespace
 
-int main(int argc, char **argv) {
-    try {
-        const Options options = parseArguments(argc, argv);
+int report(const Options &options) {
+    {
+        checkOptions(options);
         LensSystem lens(readLensFile(options.lensFile), options.aperture, options.lensFile);
         const LensSystem::CardinalPoints points = lens.cardinalPoints();
         std::printf("%s\n", options.lensFile.c_str());
@@ -102,8 +71,30 @@ int main(int argc, char **argv) {
                     1e3 * film.x(), 1e3 * film.y(), kSamples, 100.0 * withPupil.blocked,
                     100.0 * withoutPupil.blocked, 100.0 * withPupil.unlit);
         return 0;
-    } catch (const NoriException &error) {
-        std::fprintf(stderr, "Error: %s\n", error.what());
-        return 1;
     }
+}
+
+int main(int argc, char **argv) {
+    CLI::App app("What a lens file describes, and how well the realistic camera samples it: "
+                 "the effective focal length, cardinal points, nearest focus distance, the "
+                 "film distance after focusing, the exit pupil at a few film radii, and the "
+                 "fraction of camera rays the lens blocks with exit-pupil sampling and "
+                 "without it.",
+                 "nori-lensinfo");
+    configureCommandLine(app);
+    Options options;
+    app.add_option("lens", options.lensFile, "the lens file (pbrt's tabular format)")
+        ->type_name("LENS.dat")
+        ->required();
+    app.add_option("--focus", options.focus, "focus distance from the film (default 10)")
+        ->type_name("METRES");
+    app.add_option("--aperture", options.aperture,
+                   "diameter of the iris (default 0: the lens's own)")
+        ->type_name("MM");
+    app.add_option("--film-diagonal", options.filmDiagonal, "the film's diagonal (default 35)")
+        ->type_name("MM");
+    app.add_option("--width", options.width, "image width (default 1280)")->type_name("PIXELS");
+    app.add_option("--height", options.height, "image height (default 720)")->type_name("PIXELS");
+    wrapDescriptions(app);
+    return runCommandLine(app, argc, argv, [&] { return report(options); });
 }

@@ -1,15 +1,17 @@
 // The `nori` program: renders a scene file to EXR + PNG, or runs a test file.
+#include "app/cli.h"
+#include "app/plugincatalog.h"
+#include "app/preview.h"
+#include "app/program.h"
+#include "app/progress.h"
+#include "app/renderpart.h"
+#include "denoise/denoiser.h"
+#include "testing/plugintest.h"
 #include <nori/aov.h>
-#include <nori/denoiser.h>
 #include <nori/filesystem.h>
 #include <nori/parser.h>
 #include <nori/plugindoc.h>
-#include <nori/plugintest.h>
-#include <nori/preview.h>
-#include <nori/program.h>
-#include <nori/progress.h>
 #include <nori/render.h>
-#include <nori/renderpart.h>
 #include <nori/scene.h>
 #include <nori/strutil.h>
 #include <nori/test.h>
@@ -48,62 +50,11 @@ void catchInterrupt() {
     sigaction(SIGINT, &action, nullptr);
 }
 
-const char *kUsage = R"(Usage: nori [options] <file.xml>
-       nori merge PART.exr... -o OUT [--allow-missing] [--denoise] [--exposure E]
+const char *kDescription =
+    R"(Renders a scene file to <file>.exr (linear) and <file>.png (sRGB) next to it, or runs a
+test file (root element <test>) and exits 0 when it passes, 1 when it fails.)";
 
-Renders a scene file to <file>.exr (linear) and <file>.png (sRGB) next to it, or runs a
-test file (root element <test>) and exits 0 when it passes, 1 when it fails.
-
-Options:
-  -D name=value      define $name for the XML file (wins over <default>); repeatable
-  -o, --output FILE  write FILE.exr and FILE.png instead (an .exr/.png suffix is dropped)
-  -t, --threads N    number of worker threads, 1 to 1024 (default: all cores)
-  --spp N            samples per pixel, overriding the scene's sampler
-  --time SECONDS     time budget: render passes until it is spent (the last one
-                     shortened to fit) or until the sample count, whichever is first
-  --aovs LIST        AOV layers to add to the EXR, e.g. albedo,normal (from albedo,
-                     normal, depth, position, sampleCount, variance; a scene can ask
-                     for them with <string name="aovs" .../> on its integrator)
-  --denoise          also write <file>_denoised.exr/.png, denoised by the built-in
-                     feature-guided denoiser (it records the albedo, normal, depth and
-                     variance layers it needs); the noisy image is written as always
-  --pfm              also write <file>.pfm, <file>_albedo.pfm and <file>_normal.pfm,
-                     the inputs of Intel Open Image Denoise's example tool
-  --exposure E       brighten the PNG by 2^E (E in stops, may be negative); the EXR
-                     keeps the rendered values
-  --part K/N         render part K of N of the image's samples (the K-th of N slices of
-                     every pixel's sample indices) into <file>_partKofN.exr, with the
-                     weights and header `nori merge` needs (see "Split renders" below)
-  --camera-convention epfl|eth
-                     which way image x runs for cameras that do not say: epfl (x
-                     mirrored, Nori 2's default) or eth (the ETH course's Nori)
-  --no-progress      no progress bar
-  --preview [PORT]   show the render in a web browser while it runs: serves a page at
-                     http://127.0.0.1:PORT/ (default 8080, loopback only; from another
-                     machine: ssh -L 8080:127.0.0.1:8080 HOST) with the image after every
-                     pass, exposure, sRGB/linear, the AOV layers, spp, elapsed time, ETA and
-                     a Stop button that ends the render as Ctrl-C does (status 130); for a
-                     test file, the χ² picture of every case as it is drawn
-  --preview-wait     as --preview, and keep serving the final image after the render
-                     ends, until the page's Close button or Ctrl-C
-  --list-plugins [KIND|NAME]
-                     list the plugins (of one kind: bsdf, emitter, ...) with a line on
-                     each, or print one plugin's parameters, defaults and examples
-  --test-plugin NAME...
-                     test sampling plugins (BSDFs, phase functions, emitters) built from
-                     the examples of their doc comments: chi-square, weights, reciprocity,
-                     energy, discrete laws; exits 1 if any fails
-  --test-plugins     the same for every registered BSDF, phase function and emitter
-  --seed S           the seed of --test-plugin (default 1)
-  --seeds N          soak: run --test-plugin(s) with seeds 1..N and count the failures
-                     of each plugin against the 1% a correct one fails by chance
-  --pictures DIR     where --test-plugin writes pictures of failing chi-square tests
-                     (default: the current folder); --all-pictures: of every test
-  --plugins-markdown FILE
-                     write the plugin reference (docs/plugins.md) to FILE
-  --version          print the version
-  -h, --help         this text
-
+const char *kFooter = R"(
 The image is rendered in passes over the whole frame (1, 1, 2, 4, ... samples per
 pixel, at most 64 per pass). On Ctrl-C the passes finished so far are written to
 <file>_partial.exr/.png, a whole frame at fewer samples, and nori exits with status
@@ -114,8 +65,7 @@ e.g. the Slurm job array of scripts/slurm/render.sh), then `nori merge parts*.ex
 writes OUT.exr and OUT.png: the image of the whole render, its AOV layers merged too.
 The merge refuses parts of another scene (a hash of every file the scene reads, and of
 the -D definitions), of another spp, resolution or filter, a part given twice, and
-missing parts unless --allow-missing (which merges those given and names the others).
-)";
+missing parts unless --allow-missing (which merges those given and names the others).)";
 
 /// More threads than this is a mistake, not a machine (TBB fails far above it).
 constexpr int kMaxThreads = 1024;
@@ -143,12 +93,19 @@ struct Options {
     bool testAllPlugins = false;
     int soakSeeds = 0;
     PluginTestOptions pluginTest;
-    bool help = false;
     std::optional<PartSpec> part;
     bool merge = false; ///< `nori merge`: merge `parts` into `output`
     std::vector<std::string> parts;
     bool allowMissing = false;
     std::vector<std::string> renderOnlyFlags; ///< given flags that merge does not take
+};
+
+/// What the command line gives as text, checked and converted by checkOptions (with the
+/// same messages whatever the program that reads it).
+struct OptionTexts {
+    std::vector<std::string> defines;
+    std::string threads, spp, time, aovs, exposure, part, seed, seeds;
+    int previewPort = 0;
 };
 
 int parsePositive(const std::string &text, const std::string &flag) {
@@ -165,108 +122,176 @@ float parseExposure(const std::string &text, const std::string &flag) {
     return exposure;
 }
 
-Options parseCommandLine(int argc, char **argv) {
-    Options options;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        auto value = [&](const std::string &flag) -> std::string {
-            if (i + 1 >= argc)
-                throw NoriException("option {} needs a value", flag);
-            return argv[++i];
-        };
-        static const std::set<std::string> kRenderOnly = {
-            "--spp",     "--time",        "--aovs", "--pfm", "--part", "--camera-convention",
-            "--preview", "--preview-wait"};
-        if (kRenderOnly.count(arg) || arg.rfind("-D", 0) == 0)
-            options.renderOnlyFlags.push_back(arg);
-        if (arg == "-h" || arg == "--help") {
-            options.help = true;
-        } else if (arg == "--list-plugins") {
-            options.listPlugins = true;
-            if (i + 1 < argc && argv[i + 1][0] != '-' && !endsWith(toLower(argv[i + 1]), ".xml"))
-                options.listWhat = argv[++i];
-        } else if (arg == "--test-plugin") {
-            options.pluginsToTest.push_back(value(arg));
-            while (i + 1 < argc && argv[i + 1][0] != '-')
-                options.pluginsToTest.push_back(argv[++i]);
-        } else if (arg == "--test-plugins") {
-            options.testAllPlugins = true;
-        } else if (arg == "--seed") {
-            options.pluginTest.seed = static_cast<uint64_t>(parsePositive(value(arg), arg));
-        } else if (arg == "--seeds") {
-            options.soakSeeds = parsePositive(value(arg), arg);
-        } else if (arg == "--pictures") {
-            options.pluginTest.pictureFolder = value(arg);
-        } else if (arg == "--all-pictures") {
-            options.pluginTest.allPictures = true;
-        } else if (arg == "--plugins-markdown") {
-            options.markdownFile = value(arg);
-        } else if (arg == "--version") {
-            options.version = true;
-        } else if (arg == "--exposure") {
-            options.exposure = parseExposure(value(arg), arg);
-        } else if (arg == "--no-progress") {
-            options.showProgress = false;
-        } else if (arg == "--preview" || arg == "--preview-wait") {
-            options.previewWait = options.previewWait || arg == "--preview-wait";
-            if (!options.previewPort)
-                options.previewPort = kDefaultPreviewPort;
-            // An optional port: the next argument when it is a number.
-            if (i + 1 < argc && std::isdigit(static_cast<unsigned char>(argv[i + 1][0]))) {
-                options.previewPort = toInt(argv[++i], arg);
-                if (*options.previewPort < 1 || *options.previewPort > 65535)
-                    throw NoriException("{} PORT must lie in [1, 65535], got {}", arg,
-                                        *options.previewPort);
-            }
-        } else if (arg == "-o" || arg == "--output") {
-            options.output = value(arg);
-        } else if (arg == "-t" || arg == "--threads") {
-            options.threads = parsePositive(value(arg), arg);
-            if (options.threads > kMaxThreads)
-                throw NoriException("{} must be at most {}, got {}", arg, kMaxThreads,
-                                    options.threads);
-        } else if (arg == "--camera-convention") {
-            options.cameraConvention = value(arg);
-            if (options.cameraConvention != "epfl" && options.cameraConvention != "eth")
-                throw NoriException("--camera-convention must be 'epfl' or 'eth', got '{}'",
-                                    options.cameraConvention);
-        } else if (arg == "--time") {
-            options.timeBudget = toFloat(value(arg), arg);
-            if (!(options.timeBudget > 0.0) || !std::isfinite(options.timeBudget))
-                throw NoriException("--time must be a positive number of seconds, got {}",
-                                    options.timeBudget);
-        } else if (arg == "--aovs") {
-            options.aovs = parseAOVList(value(arg), arg);
-        } else if (arg == "--pfm") {
-            options.pfm = true;
-        } else if (arg == "--denoise") {
-            options.denoise = true;
-        } else if (arg == "--part") {
-            options.part = parsePartSpec(value(arg), arg);
-        } else if (arg == "--spp") {
-            options.samplesPerPixel = static_cast<size_t>(parsePositive(value(arg), arg));
-        } else if (arg.rfind("-D", 0) == 0) {
-            const std::string definition = arg.size() > 2 ? arg.substr(2) : value(arg);
-            const size_t equals = definition.find('=');
-            if (equals == std::string::npos || equals == 0)
-                throw NoriException("-D expects name=value, got '{}'", definition);
-            options.defines[definition.substr(0, equals)] = definition.substr(equals + 1);
-        } else if (arg == "--allow-missing") {
-            options.allowMissing = true;
-        } else if (!arg.empty() && arg[0] == '-') {
-            throw NoriException("unknown option '{}' (see nori --help)", arg);
-        } else if (arg == "merge" && !options.merge && options.sceneFile.empty()) {
-            options.merge = true;
-        } else if (options.merge) {
-            options.parts.push_back(arg);
-        } else if (options.sceneFile.empty()) {
-            options.sceneFile = arg;
+/// `--preview [PORT]`: the port is optional, so the next word is the port only when it is
+/// a number (`--preview scene.xml` previews on the default port). The port is attached
+/// here, the default one too, and CLI11 reads `--preview=PORT`.
+std::vector<std::string> attachPreviewPorts(int argc, char **argv) {
+    std::vector<std::string> arguments(argv, argv + argc);
+    for (size_t i = 1; i < arguments.size(); ++i) {
+        if (arguments[i] != "--preview" && arguments[i] != "--preview-wait")
+            continue;
+        if (i + 1 < arguments.size() &&
+            std::isdigit(static_cast<unsigned char>(arguments[i + 1][0]))) {
+            arguments[i] += "=" + arguments[i + 1];
+            arguments.erase(arguments.begin() + static_cast<std::ptrdiff_t>(i) + 1);
         } else {
-            throw NoriException("more than one input file given ('{}' and '{}')", options.sceneFile,
-                                arg);
+            arguments[i] += "=" + std::to_string(kDefaultPreviewPort);
         }
     }
-    return options;
+    return arguments;
+}
+
+/// The options of `nori` and of `nori merge`, bound to `options` and `texts`.
+void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
+    configureCommandLine(app);
+    app.description(kDescription);
+    app.footer(kFooter);
+    app.add_option("file", options.sceneFile, "the scene or test file (.xml)");
+    app.add_option("-D", texts.defines,
+                   "define $name for the XML file (wins over <default>); repeatable")
+        ->type_name("name=value")
+        ->allow_extra_args(false);
+    app.add_option("-o,--output", options.output,
+                   "write FILE.exr and FILE.png instead (an .exr/.png suffix is dropped)")
+        ->type_name("FILE");
+    app.add_option("-t,--threads", texts.threads,
+                   "number of worker threads, 1 to 1024 (default: all cores)")
+        ->type_name("N");
+    app.add_option("--spp", texts.spp, "samples per pixel, overriding the scene's sampler")
+        ->type_name("N");
+    app.add_option("--time", texts.time,
+                   "time budget: render passes until it is spent (the last one shortened to "
+                   "fit) or until the sample count, whichever is first")
+        ->type_name("SECONDS");
+    app.add_option("--aovs", texts.aovs,
+                   "AOV layers to add to the EXR, e.g. albedo,normal (from albedo, normal, "
+                   "depth, position, sampleCount, variance)")
+        ->type_name("LIST");
+    app.add_flag("--denoise", options.denoise,
+                 "also write <file>_denoised.exr/.png, denoised by the built-in feature-guided "
+                 "denoiser; the noisy image is written as always");
+    app.add_flag("--pfm", options.pfm,
+                 "also write <file>.pfm, <file>_albedo.pfm and <file>_normal.pfm, the inputs "
+                 "of Intel Open Image Denoise's example tool");
+    app.add_option("--exposure", texts.exposure,
+                   "brighten the PNG by 2^E (E in stops, may be negative); the EXR keeps the "
+                   "rendered values")
+        ->type_name("E");
+    app.add_option("--part", texts.part,
+                   "render part K of N of the image's samples into <file>_partKofN.exr, with "
+                   "the weights and header `nori merge` needs")
+        ->type_name("K/N");
+    app.add_option("--camera-convention", options.cameraConvention,
+                   "which way image x runs for cameras that do not say: epfl (x mirrored, "
+                   "Nori 2's default) or eth (the ETH course's Nori)")
+        ->type_name("epfl|eth");
+    auto *noProgress = app.add_flag("--no-progress", "no progress bar");
+    app.add_option("--preview", texts.previewPort,
+                   "show the render in a web browser while it runs, at http://127.0.0.1:PORT/ "
+                   "(default 8080, loopback only; from another machine: ssh -L "
+                   "8080:127.0.0.1:8080 HOST): the image after every pass, exposure, the AOV "
+                   "layers, spp, ETA and a Stop button; for a test file, its χ² pictures")
+        ->type_name("[PORT]");
+    app.add_option("--preview-wait", texts.previewPort,
+                   "as --preview, and keep serving the final image after the render ends, until "
+                   "the page's Close button or Ctrl-C")
+        ->type_name("[PORT]");
+    app.add_option("--list-plugins", options.listWhat,
+                   "list the plugins (of one kind: bsdf, emitter, ...) with a line on each, or "
+                   "print one plugin's parameters, defaults and examples")
+        ->type_name("[KIND|NAME]")
+        ->expected(0, 1);
+    app.add_option("--test-plugin", options.pluginsToTest,
+                   "test sampling plugins (BSDFs, phase functions, emitters) built from the "
+                   "examples of their doc comments; exits 1 if any fails")
+        ->type_name("NAME");
+    app.add_flag("--test-plugins", options.testAllPlugins,
+                 "the same for every registered BSDF, phase function and emitter");
+    app.add_option("--seed", texts.seed, "the seed of --test-plugin (default 1)")->type_name("S");
+    app.add_option("--seeds", texts.seeds,
+                   "soak: run --test-plugin(s) with seeds 1..N and count the failures of each "
+                   "plugin against the 1% a correct one fails by chance")
+        ->type_name("N");
+    app.add_option("--pictures", options.pluginTest.pictureFolder,
+                   "where --test-plugin and test files write pictures of failing chi-square "
+                   "tests (default: the current folder, or the test file's)")
+        ->type_name("DIR");
+    app.add_flag("--all-pictures", options.pluginTest.allPictures, "pictures of every test");
+    app.add_option("--plugins-markdown", options.markdownFile,
+                   "write the plugin reference (docs/plugins.md) to FILE")
+        ->type_name("FILE");
+    app.add_flag("--version", options.version, "print the version");
+    noProgress->each([&options](const std::string &) { options.showProgress = false; });
+
+    CLI::App *merge = app.add_subcommand(
+        "merge", "merge the parts of a split render (nori scene.xml --part K/N) into OUT.exr "
+                 "and OUT.png");
+    configureCommandLine(*merge);
+    merge->footer("");
+    merge->add_option("parts", options.parts, "the parts' EXR files")->type_name("PART.exr");
+    merge->add_option("-o,--output", options.output, "write OUT.exr and OUT.png")->type_name("OUT");
+    merge->add_flag("--allow-missing", options.allowMissing,
+                    "merge the parts given and name the missing ones");
+    merge->add_flag("--denoise", options.denoise, "also denoise the merged image");
+    merge->add_option("--exposure", texts.exposure, "brighten the PNG by 2^E")->type_name("E");
+    // Options of rendering given to merge reach the main command, which refuses them.
+    merge->fallthrough();
+    merge->callback([&options] { options.merge = true; });
+    app.add_flag("--allow-missing", options.allowMissing, "(nori merge's)")->group("");
+    wrapDescriptions(app);
+}
+
+/// Checks and converts the options given as text; throws NoriException naming the
+/// option.
+void checkOptions(const CLI::App &app, Options &options, const OptionTexts &texts) {
+    for (const char *flag : {"--spp", "--time", "--aovs", "--pfm", "--part", "--camera-convention",
+                             "--preview", "--preview-wait", "-D"})
+        if (app.count(flag) > 0)
+            options.renderOnlyFlags.emplace_back(flag);
+    options.listPlugins = app.count("--list-plugins") > 0;
+    for (const std::string &definition : texts.defines) {
+        const size_t equals = definition.find('=');
+        if (equals == std::string::npos || equals == 0)
+            throw NoriException("-D expects name=value, got '{}'", definition);
+        options.defines[definition.substr(0, equals)] = definition.substr(equals + 1);
+    }
+    if (!texts.threads.empty()) {
+        options.threads = parsePositive(texts.threads, "--threads");
+        if (options.threads > kMaxThreads)
+            throw NoriException("--threads must be at most {}, got {}", kMaxThreads,
+                                options.threads);
+    }
+    if (!texts.spp.empty())
+        options.samplesPerPixel = static_cast<size_t>(parsePositive(texts.spp, "--spp"));
+    if (!texts.time.empty()) {
+        options.timeBudget = toFloat(texts.time, "--time");
+        if (!(options.timeBudget > 0.0) || !std::isfinite(options.timeBudget))
+            throw NoriException("--time must be a positive number of seconds, got {}",
+                                options.timeBudget);
+    }
+    if (!texts.aovs.empty())
+        options.aovs = parseAOVList(texts.aovs, "--aovs");
+    if (!texts.exposure.empty())
+        options.exposure = parseExposure(texts.exposure, "--exposure");
+    if (!texts.part.empty())
+        options.part = parsePartSpec(texts.part, "--part");
+    if (!options.cameraConvention.empty() && options.cameraConvention != "epfl" &&
+        options.cameraConvention != "eth")
+        throw NoriException("--camera-convention must be 'epfl' or 'eth', got '{}'",
+                            options.cameraConvention);
+    if (!texts.seed.empty())
+        options.pluginTest.seed = static_cast<uint64_t>(parsePositive(texts.seed, "--seed"));
+    if (!texts.seeds.empty())
+        options.soakSeeds = parsePositive(texts.seeds, "--seeds");
+    const bool previewGiven = app.count("--preview") + app.count("--preview-wait") > 0;
+    options.previewWait = app.count("--preview-wait") > 0;
+    if (previewGiven) {
+        if (texts.previewPort < 1 || texts.previewPort > 65535)
+            throw NoriException("{} PORT must lie in [1, 65535], got {}",
+                                options.previewWait ? "--preview-wait" : "--preview",
+                                texts.previewPort);
+        options.previewPort = texts.previewPort;
+    }
 }
 
 /// Runs the plugin tests with seeds 1..seeds and prints, per plugin, how many runs
@@ -354,7 +379,13 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash,
     RenderOptions renderOptions;
     renderOptions.threads = options.threads > 0 ? options.threads : defaultThreadCount();
     renderOptions.samplesPerPixel = options.samplesPerPixel;
-    renderOptions.showProgress = options.showProgress;
+    std::unique_ptr<ProgressBar> progress;
+    if (options.showProgress)
+        renderOptions.progress = [&progress](size_t done, size_t total) {
+            if (!progress)
+                progress = std::make_unique<ProgressBar>("Rendering", total, true);
+            progress->update(done);
+        };
     renderOptions.cancel = &g_interrupted;
     renderOptions.timeBudget = options.timeBudget;
     renderOptions.aovs = options.aovs;
@@ -398,6 +429,8 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash,
                                                     fs::path(options.sceneFile).filename().string())
                                        : renderScene(scene, renderOptions);
     const double rays = static_cast<double>(scene.rayCount() - raysBefore);
+    if (progress)
+        progress->finish();
 
     const std::string stem = outputStem(options) + (result.cancelled ? "_partial" : "");
     result.layers.saveEXR(stem + ".exr");
@@ -530,13 +563,8 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
                         options.sceneFile, NoriObject::classTypeName(root->getClassType()));
 }
 
-int run(int argc, char **argv) {
+int run(Options &options) {
     NoriObjectFactory::checkRegistry();
-    Options options = parseCommandLine(argc, argv);
-    if (options.help) {
-        fmt::print("{}", kUsage);
-        return 0;
-    }
     if (options.version) {
         fmt::print("nori {}\n", NORI_VERSION);
         return 0;
@@ -584,10 +612,8 @@ int run(int argc, char **argv) {
     }
     if (options.allowMissing)
         throw NoriException("--allow-missing applies to `nori merge`, not to rendering");
-    if (options.sceneFile.empty()) {
-        fmt::print(stderr, "{}", kUsage);
-        return 1;
-    }
+    if (options.sceneFile.empty())
+        throw NoriException("no scene or test file given (see nori --help)");
     if (options.part && options.denoise)
         throw NoriException("--denoise denoises a whole render: give it to `nori merge` instead "
                             "of to a part");
@@ -628,5 +654,16 @@ int run(int argc, char **argv) {
 } // namespace
 
 int main(int argc, char **argv) {
-    return runProgram([&] { return run(argc, argv); });
+    CLI::App app("", "nori");
+    Options options;
+    OptionTexts texts;
+    defineCommandLine(app, options, texts);
+    std::vector<std::string> arguments = attachPreviewPorts(argc, argv);
+    std::vector<char *> pointers;
+    for (std::string &argument : arguments)
+        pointers.push_back(argument.data());
+    return runCommandLine(app, static_cast<int>(pointers.size()), pointers.data(), [&] {
+        checkOptions(app, options, texts);
+        return run(options);
+    });
 }

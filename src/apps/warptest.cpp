@@ -1,11 +1,11 @@
 // warptest: the χ² test of one sampling routine from the command line, with a picture of
 // the observed and expected histograms and their difference, so a student can see where
 // a sampler goes wrong.
+#include "app/cli.h"
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/parser.h>
 #include <nori/phase.h>
-#include <nori/program.h>
 #include <nori/samplingroutines.h>
 #include <nori/strutil.h>
 
@@ -17,29 +17,27 @@ using namespace nori;
 
 namespace {
 
-const char *kUsage = R"(Usage: warptest <what> [options]
+const char *kDescription = R"(The χ² test of one sampling routine, with a picture: WHAT is one of
+  WARP                   a warp of warp.h (see --list), e.g. cosine_hemisphere, beckmann
+  bsdf XML               a BSDF, as an XML snippet or file, e.g. '<bsdf type="diffuse"/>'
+  phase XML              a phase function, e.g. '<phase type="hg"><float name="g" value="0.5"/></phase>'
+  emitter XML            an emitter (direction sampling seen from --ref))";
 
-<what> is one of
-  <warp>                 a warp of warp.h (see --list), e.g. cosine_hemisphere, beckmann
-  bsdf <xml>             a BSDF, as an XML snippet or file, e.g. '<bsdf type="diffuse"/>'
-  phase <xml>            a phase function, e.g. '<phase type="hg"><float name="g" value="0.5"/></phase>'
-  emitter <xml>          an emitter (direction sampling seen from --ref)
-
-Options:
-  --param V              the warp's parameter (alpha, g, cosThetaMax)
-  --angle DEG            incident angle from the normal for bsdf/phase (default 30)
-  --ref x,y,z            reference point for emitters (default 0,0,0)
-  --resolution N         histogram bins along cos(theta) or x (default 10)
-  --samples N            number of samples (default 5000 per bin)
-  --significance A       significance level (default 0.01)
-  --seed S               seed of the uniform samples (default 0)
-  --out DIR              folder for the picture (default .)
-  --list                 list the warps
-
+const char *kFooter = R"(
 Writes DIR/warptest-<what>_<parameters>_<angle>.png (observed | expected | difference:
 named after what was tested, so runs do not overwrite each other), prints the p-value and
-the verdict, and exits 0 when the test passes, 1 when it fails.
-)";
+the verdict, and exits 0 when the test passes, 1 when it fails.)";
+
+/// What the command line gives.
+struct Arguments {
+    std::vector<std::string> positional;
+    std::optional<float> parameter;
+    float angle = 30.0f;
+    std::vector<float> ref{0.0f, 0.0f, 0.0f};
+    std::string outDir = ".";
+    bool list = false;
+    ChiSquareOptions options;
+};
 
 std::shared_ptr<NoriObject> loadObject(const std::string &xmlOrFile) {
     // XML text starts with '<'; anything else names a file.
@@ -58,61 +56,25 @@ std::shared_ptr<T> loadAs(const std::string &xmlOrFile, NoriObject::EClassType t
     return std::static_pointer_cast<T>(object);
 }
 
-int run(int argc, char **argv) {
-    if (argc < 2) {
-        std::cerr << kUsage;
-        return 1;
+int run(Arguments &arguments) {
+    if (arguments.list) {
+        for (const NamedWarp &warp : namedWarps())
+            std::cout << warp.name
+                      << (warp.parameterName.empty()
+                              ? ""
+                              : fmt::format(" (--param {}, default {})", warp.parameterName,
+                                            warp.defaultParameter))
+                      << "\n";
+        return 0;
     }
-    std::vector<std::string> positional;
-    std::optional<float> parameter;
-    float angle = 30.0f;
-    Point3f ref(0.0f);
-    std::string outDir = ".";
-    ChiSquareOptions options;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= argc)
-                throw NoriException("option {} needs a value", arg);
-            return argv[++i];
-        };
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kUsage;
-            return 0;
-        } else if (arg == "--list") {
-            for (const NamedWarp &warp : namedWarps())
-                std::cout << warp.name
-                          << (warp.parameterName.empty()
-                                  ? ""
-                                  : fmt::format(" (--param {}, default {})", warp.parameterName,
-                                                warp.defaultParameter))
-                          << "\n";
-            return 0;
-        } else if (arg == "--param") {
-            parameter = toFloat(value(), "--param");
-        } else if (arg == "--angle") {
-            angle = toFloat(value(), "--angle");
-        } else if (arg == "--ref") {
-            std::vector<float> v = toFloatList(value(), "--ref");
-            if (v.size() != 3)
-                throw NoriException("--ref needs three numbers x,y,z");
-            ref = Point3f(v[0], v[1], v[2]);
-        } else if (arg == "--resolution") {
-            options.resolution = toInt(value(), "--resolution");
-        } else if (arg == "--samples") {
-            options.sampleCount = static_cast<size_t>(toInt(value(), "--samples"));
-        } else if (arg == "--significance") {
-            options.significanceLevel = toFloat(value(), "--significance");
-        } else if (arg == "--seed") {
-            options.seed = static_cast<uint64_t>(toInt(value(), "--seed"));
-        } else if (arg == "--out") {
-            outDir = value();
-        } else if (!arg.empty() && arg[0] == '-' && arg.size() > 1) {
-            throw NoriException("unknown option '{}' (see warptest --help)", arg);
-        } else {
-            positional.push_back(arg);
-        }
-    }
+    const std::vector<std::string> &positional = arguments.positional;
+    const std::optional<float> &parameter = arguments.parameter;
+    const float angle = arguments.angle;
+    const std::string &outDir = arguments.outDir;
+    ChiSquareOptions &options = arguments.options;
+    if (arguments.ref.size() != 3)
+        throw NoriException("--ref needs three numbers x,y,z");
+    const Point3f ref(arguments.ref[0], arguments.ref[1], arguments.ref[2]);
     if (positional.empty())
         throw NoriException("nothing to test (see warptest --help)");
     options.validate();
@@ -183,5 +145,36 @@ int run(int argc, char **argv) {
 } // namespace
 
 int main(int argc, char **argv) {
-    return runProgram([&] { return run(argc, argv); }, 2);
+    CLI::App app(kDescription, "warptest");
+    configureCommandLine(app);
+    app.footer(kFooter);
+    Arguments arguments;
+    app.add_option("what", arguments.positional, "what to test, and its XML")
+        ->type_name("WHAT [XML]");
+    app.add_option("--param", arguments.parameter, "the warp's parameter (alpha, g, cosThetaMax)")
+        ->type_name("V");
+    app.add_option("--angle", arguments.angle,
+                   "incident angle from the normal for bsdf/phase (default 30)")
+        ->type_name("DEG");
+    app.add_option("--ref", arguments.ref, "reference point for emitters (default 0,0,0)")
+        ->type_name("x,y,z")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--resolution", arguments.options.resolution,
+                   "histogram bins along cos(theta) or x (default 10)")
+        ->type_name("N");
+    app.add_option("--samples", arguments.options.sampleCount,
+                   "number of samples (default 5000 per bin)")
+        ->type_name("N");
+    app.add_option("--significance", arguments.options.significanceLevel,
+                   "significance level (default 0.01)")
+        ->type_name("A");
+    app.add_option("--seed", arguments.options.seed, "seed of the uniform samples (default 0)")
+        ->type_name("S");
+    app.add_option("--out", arguments.outDir, "folder for the picture (default .)")
+        ->type_name("DIR");
+    app.add_flag("--list", arguments.list, "list the warps");
+    wrapDescriptions(app);
+    return runCommandLine(
+        app, argc, argv, [&] { return run(arguments); }, 2);
 }

@@ -2,6 +2,8 @@
 #include <nori/plugindoc.h>
 #include <nori/strutil.h>
 
+#include <algorithm>
+#include <cctype>
 #include <map>
 #include <sstream>
 
@@ -17,13 +19,6 @@ const std::vector<std::string> kParameterTypes = {
 std::map<std::string, std::string> &docComments() {
     static std::map<std::string, std::string> comments;
     return comments;
-}
-
-std::string trim(const std::string &text) {
-    const size_t begin = text.find_first_not_of(" \t");
-    if (begin == std::string::npos)
-        return "";
-    return text.substr(begin, text.find_last_not_of(" \t") - begin + 1);
 }
 
 size_t indentOf(const std::string &line) {
@@ -94,8 +89,21 @@ ParameterDoc parseParameterLine(const std::string &line) {
                             "type, default, meaning",
                             trim(line));
     ParameterDoc parameter;
-    for (const std::string &name : tokenize(columns[0], ", "))
+    for (const std::string &name : tokenize(columns[0], ", ")) {
+        // An XML name: a letter or '_', then letters, digits or '_'. Anything else is a
+        // line broken in the wrong place (a reflowed comment) read as a parameter.
+        const bool identifier =
+            (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
+            std::all_of(name.begin(), name.end(), [](char c) {
+                return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+            });
+        if (!identifier)
+            throw NoriException("parameter line '{}' names '{}', which is not a parameter name "
+                                "(a letter, then letters, digits or '_'): is it the end of the "
+                                "line above, wrapped?",
+                                trim(line), name);
         parameter.names.push_back(name);
+    }
     parameter.type = columns[1];
     parameter.defaultValue = columns[2];
     for (size_t i = 3; i < columns.size(); ++i)
@@ -236,42 +244,6 @@ std::string shortSourcePath(const std::string &sourceFile) {
     return sourceFile;
 }
 
-std::string pluginList(const std::string &kind) {
-    const auto classes = NoriObjectFactory::registeredClasses();
-    if (!kind.empty() && NoriObject::classTypeFromName(kind) == NoriObject::EClassTypeCount) {
-        // Suggest a plugin or a kind.
-        std::vector<std::string> names;
-        names.reserve(classes.size() + NoriObject::EClassTypeCount);
-        for (const auto &[type, name] : classes)
-            names.push_back(name);
-        for (int t = 0; t < NoriObject::EClassTypeCount; ++t)
-            names.push_back(NoriObject::classTypeName(static_cast<NoriObject::EClassType>(t)));
-        throw NoriException("'{}' is neither a kind of plugin nor a plugin{}", kind,
-                            didYouMean(kind, names));
-    }
-    std::string out;
-    NoriObject::EClassType current = NoriObject::EClassTypeCount;
-    for (const auto &[type, name] : classes) {
-        if (!kind.empty() && NoriObject::classTypeName(type) != kind)
-            continue;
-        if (type != current) {
-            current = type;
-            out += fmt::format("{}{}:\n", out.empty() ? "" : "\n", NoriObject::classTypeName(type));
-        }
-        std::string summary;
-        const std::string comment = docCommentOf(type, name);
-        if (!comment.empty()) {
-            try {
-                summary = parsePluginDoc(comment).summary;
-            } catch (const NoriException &error) {
-                summary = fmt::format("(malformed doc comment: {})", error.what());
-            }
-        }
-        out += fmt::format("  {:<16} {}\n", name, summary);
-    }
-    return out;
-}
-
 const std::vector<ParameterDoc> &commonParameters(NoriObject::EClassType type) {
     static const std::vector<ParameterDoc> none;
     static const std::vector<ParameterDoc> integrator = {
@@ -297,110 +269,6 @@ const std::vector<ParameterDoc> &commonParameters(NoriObject::EClassType type) {
     default:
         return none;
     }
-}
-
-namespace {
-
-/// The parameters every plugin of the kind takes, as a text table (for --list-plugins).
-std::string commonParametersText(NoriObject::EClassType type) {
-    const std::vector<ParameterDoc> &parameters = commonParameters(type);
-    if (parameters.empty())
-        return "";
-    std::string out =
-        fmt::format("\nParameters of every {} plugin:\n", NoriObject::classTypeName(type));
-    for (const ParameterDoc &parameter : parameters)
-        out += fmt::format("  {:<13} {:<8} {:<6} {}\n", fmt::join(parameter.names, ", "),
-                           parameter.type, parameter.defaultValue, parameter.meaning);
-    return out;
-}
-
-} // namespace
-
-std::string pluginReference(const std::string &name) {
-    if (!NoriObjectFactory::isRegistered(name))
-        return pluginList(name); // a kind, or an error with a suggestion
-    std::string out;
-    for (const NoriObject::EClassType type : NoriObjectFactory::kindsOf(name)) {
-        const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(type, name);
-        const std::string comment = docCommentOf(type, name);
-        out += fmt::format("{}{} ({}, {})\n\n", out.empty() ? "" : "\n", name,
-                           NoriObject::classTypeName(type), shortSourcePath(entry.sourceFile));
-        if (comment.empty()) {
-            out += "(this plugin's file has no doc comment)\n";
-            continue;
-        }
-        try {
-            out += parsePluginDoc(comment).text + commonParametersText(type);
-        } catch (const NoriException &error) {
-            throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
-                                error.what());
-        }
-    }
-    return out;
-}
-
-std::string pluginsMarkdown() {
-    std::string out = "# Plugins\n\nGenerated by the build from the doc comment at the top of "
-                      "each file in `plugins/`; do not edit. `nori --list-plugins NAME` prints "
-                      "the same.\n";
-    NoriObject::EClassType current = NoriObject::EClassTypeCount;
-    for (const auto &[type, name] : NoriObjectFactory::registeredClasses()) {
-        const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(type, name);
-        const std::string comment = docCommentOf(type, name);
-        if (shortSourcePath(entry.sourceFile).rfind("plugins/", 0) != 0 || comment.empty())
-            continue;
-        if (type != current) {
-            current = type;
-            out += fmt::format("\n## {}\n", NoriObject::classTypeName(type));
-            const std::vector<ParameterDoc> &common = commonParameters(type);
-            if (!common.empty()) {
-                out += fmt::format("\nEvery {} plugin takes these parameters (read by the base "
-                                   "class):\n\n| parameter | type | default | meaning |\n"
-                                   "| --- | --- | --- | --- |\n",
-                                   NoriObject::classTypeName(type));
-                for (const ParameterDoc &parameter : common)
-                    out +=
-                        fmt::format("| `{}` | {} | {} | {} |\n", fmt::join(parameter.names, "`, `"),
-                                    parameter.type, parameter.defaultValue, parameter.meaning);
-            }
-        }
-        PluginDoc doc;
-        try {
-            doc = parsePluginDoc(comment);
-        } catch (const NoriException &error) {
-            throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
-                                error.what());
-        }
-        if (name != doc.name) { // an alias: one line pointing at the plugin
-            out += fmt::format("\n### {}\n\nAnother name of `{}`.\n", name, doc.name);
-            continue;
-        }
-        // The description: the text before the parameters, joined into a paragraph.
-        std::string description;
-        bool first = true;
-        for (std::string line : tokenize(doc.text, "\n")) {
-            if (first) // without the "name — " that the heading already says
-                line = line.substr(line.find(' ', doc.name.size() + 1) + 1);
-            first = false;
-            const std::string text = trim(line);
-            if (text == "Parameters:" || text.rfind("No parameters", 0) == 0 || text[0] == '<')
-                break;
-            description += (description.empty() ? "" : " ") + text;
-        }
-        out += fmt::format("\n### `{}`\n\n{} (`{}`)\n", name, description,
-                           shortSourcePath(entry.sourceFile));
-        if (!doc.parameters.empty()) {
-            out += "\n| parameter | type | default | meaning |\n| --- | --- | --- | --- |\n";
-            for (const ParameterDoc &parameter : doc.parameters)
-                out += fmt::format("| `{}` | {} | {} | {} |\n", fmt::join(parameter.names, "`, `"),
-                                   parameter.type, parameter.defaultValue, parameter.meaning);
-        }
-        if (!doc.exemption.empty())
-            out += fmt::format("\nExempt from the sampling test: {}\n", doc.exemption);
-        for (const std::string &example : doc.examples)
-            out += fmt::format("\n```xml\n{}```\n", example);
-    }
-    return out;
 }
 
 } // namespace nori

@@ -50,6 +50,13 @@ std::vector<float> toFloatList(const std::string &text, const std::string &what)
     return values;
 }
 
+std::string trim(const std::string &text) {
+    const size_t begin = text.find_first_not_of(" \t");
+    if (begin == std::string::npos)
+        return "";
+    return text.substr(begin, text.find_last_not_of(" \t") - begin + 1);
+}
+
 std::string toLower(std::string text) {
     for (char &c : text)
         c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

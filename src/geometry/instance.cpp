@@ -1,5 +1,3 @@
-#include <nori/bsdf.h>
-#include <nori/emitter.h>
 #include <nori/instance.h>
 #include <nori/proplist.h>
 
@@ -12,7 +10,7 @@ namespace {
 class ShapeWithBSDF : public Shape {
 public:
     ShapeWithBSDF(const Shape &parent, std::shared_ptr<BSDF> bsdf) : m_parent(parent) {
-        copySurfaceParameters(parent);
+        m_shading = parent.getSurfaceShadingPtr();
         m_bsdf = std::move(bsdf);
         m_bbox = parent.getBoundingBox();
     }
@@ -37,7 +35,7 @@ public:
         return m_parent.sampleSurface(sample);
     }
     std::string toString() const override {
-        return fmt::format("ShapeWithBSDF[{}, bsdf = {}]", m_parent.toString(), m_bsdf->toString());
+        return fmt::format("ShapeWithBSDF[{}, with a tmesh copy's own bsdf]", m_parent.toString());
     }
 
 private:
@@ -76,10 +74,14 @@ TMesh::TMesh(const PropertyList &props) : m_toWorld(props.getTransform("toWorld"
 }
 
 void TMesh::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
-    if (child->getClassType() == EBSDF)
-        setUniqueChild(m_bsdf, child, "a tmesh");
-    else
+    if (child->getClassType() != EBSDF || !child->attachTo(*this, name))
         NoriObject::addChild(child, name);
+}
+
+void TMesh::setBSDF(std::shared_ptr<BSDF> bsdf) {
+    if (m_bsdf)
+        throw NoriException("a tmesh takes only one bsdf");
+    m_bsdf = std::move(bsdf);
 }
 
 std::string TMesh::toString() const {
@@ -117,11 +119,6 @@ void TMeshSet::placeInto(Accel &accel) {
     decltype(m_copies)().swap(m_copies); // frees it (`= {}` would keep the capacity)
 }
 
-bool TMeshSet::usesFootprint() const {
-    return std::any_of(m_views.begin(), m_views.end(),
-                       [](const auto &view) { return view->usesFootprint(); });
-}
-
 void ShapeCollection::keepAlive(const std::shared_ptr<const void> &object) {
     if (m_placedSet.insert(object.get()).second)
         m_placed.push_back(object);
@@ -130,8 +127,9 @@ void ShapeCollection::keepAlive(const std::shared_ptr<const void> &object) {
 void ShapeCollection::add(const std::shared_ptr<NoriObject> &child) {
     if (auto instance = std::dynamic_pointer_cast<Instance>(child)) {
         m_accel.addInstance(instance->group()->target(), instance->toWorld());
+        if (m_placedSet.count(instance->group().get()) == 0)
+            m_placedGroups.push_back(instance->group().get());
         keepAlive(instance->group());
-        m_usesFootprint = m_usesFootprint || instance->group()->usesFootprint();
     } else if (std::dynamic_pointer_cast<ShapeGroup>(child)) {
         // A declaration: its instances place it.
     } else if (std::dynamic_pointer_cast<TMesh>(child)) {
@@ -140,13 +138,22 @@ void ShapeCollection::add(const std::shared_ptr<NoriObject> &child) {
     } else {
         auto shape = std::static_pointer_cast<Shape>(child);
         m_shapes.push_back(shape);
-        m_usesFootprint = m_usesFootprint || shape->usesFootprint() ||
-                          (shape->tmeshes() && shape->tmeshes()->usesFootprint());
         if (shape->tmeshes()) {
             shape->tmeshes()->placeInto(m_accel);
             keepAlive(shape->tmeshes());
         }
     }
+}
+
+void ShapeCollection::visitShapes(const std::function<void(const Shape &)> &visit) const {
+    for (const auto &shape : m_shapes) {
+        visit(*shape);
+        if (shape->tmeshes())
+            for (const auto &view : shape->tmeshes()->views())
+                visit(*view);
+    }
+    for (const ShapeGroup *group : m_placedGroups)
+        group->contents().visitShapes(visit);
 }
 
 void ShapeCollection::build() {

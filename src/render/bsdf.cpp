@@ -1,6 +1,21 @@
 #include <nori/bsdf.h>
+#include <nori/instance.h>
 
 namespace nori {
+
+bool BSDF::attachTo(NoriObject &parent, const std::string &name) {
+    (void)name;
+    auto self = std::static_pointer_cast<BSDF>(shared_from_this());
+    if (auto *shape = dynamic_cast<Shape *>(&parent)) {
+        shape->setBSDF(std::move(self));
+        return true;
+    }
+    if (auto *tmesh = dynamic_cast<TMesh *>(&parent)) {
+        tmesh->setBSDF(std::move(self));
+        return true;
+    }
+    return false;
+}
 
 Color3f BSDF::albedo(const BSDFQueryRecord &bRec) const {
     // The mean of sample()'s weights eval·|cos θo|/pdf is an unbiased estimate of the

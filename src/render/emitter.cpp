@@ -1,9 +1,20 @@
 #include <nori/emitter.h>
 #include <nori/frame.h>
 #include <nori/proplist.h>
+#include <nori/shape.h>
 #include <nori/warp.h>
 
 namespace nori {
+
+bool Emitter::attachTo(NoriObject &parent, const std::string &name) {
+    (void)name;
+    auto *shape = dynamic_cast<Shape *>(&parent);
+    if (!shape)
+        return false;
+    shape->setEmitter(std::static_pointer_cast<Emitter>(shared_from_this()));
+    m_shape = shape;
+    return true;
+}
 
 void SceneBoundingSphere::set(const BoundingBox3f &bounds) {
     if (!bounds.isValid())

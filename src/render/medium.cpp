@@ -1,7 +1,16 @@
 #include <nori/medium.h>
 #include <nori/phase.h>
+#include <nori/shape.h>
 
 namespace nori {
+
+bool Medium::attachTo(NoriObject &parent, const std::string &name) {
+    auto *shape = dynamic_cast<Shape *>(&parent);
+    if (!shape)
+        return false;
+    shape->setMedium(name, std::static_pointer_cast<Medium>(shared_from_this()));
+    return true;
+}
 
 void Medium::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
     if (child->getClassType() == EPhaseFunction)

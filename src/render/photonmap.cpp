@@ -1,6 +1,7 @@
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/hash.h>
+#include <nori/pathtracing.h>
 #include <nori/pcg32.h>
 #include <nori/photonmap.h>
 #include <nori/proplist.h>
@@ -232,12 +233,8 @@ Color3f photonMappedRadiance(const Scene &scene, const PhotonMap &map, Sampler &
         throughput *= weight;
         previous = its.p;
         ray = spawnScatteredRay(its, ray, bRec);
-        if (bounce + 1 >= kCameraRouletteDepth) {
-            const float q = std::min(0.99f, throughput.maxCoeff());
-            if (rouletteSample >= q)
-                break;
-            throughput /= q;
-        }
+        if (!russianRoulette(bounce + 1, kCameraRouletteDepth, throughput, rouletteSample))
+            break;
     }
     return radiance;
 }

@@ -1,6 +1,5 @@
 #include <nori/film.h>
 #include <nori/hash.h>
-#include <nori/progress.h>
 #include <nori/render.h>
 #include <nori/scene.h>
 
@@ -8,6 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <chrono>
 #include <mutex>
 
 namespace nori {
@@ -121,8 +121,11 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     RenderResult result;
     result.targetSamplesPerPixel = targetSpp;
     const size_t pixelCount = static_cast<size_t>(outputSize.prod());
-    ProgressBar progress("Rendering", pixelCount * targetSpp, options.showProgress);
-    size_t samplesDone = 0; // for the progress bar: stopped pixels count as done
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsedSeconds = [&start] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    size_t samplesDone = 0; // for the progress callback: stopped pixels count as done
     std::mutex mutex;
 
     size_t sppDone = 0;
@@ -135,7 +138,7 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
             passSize = std::min(passSize, integrator->maxSamplesPerPass());
         if (options.timeBudget > 0.0 && sppDone > 0) {
             // Shorten the pass to what the measured rate says fits in the budget left.
-            const double elapsed = progress.elapsedSeconds();
+            const double elapsed = elapsedSeconds();
             const double secondsPerSpp = elapsed / static_cast<double>(sppDone);
             const double sppLeft = (options.timeBudget - elapsed) / secondsPerSpp;
             if (sppLeft < 1.0)
@@ -168,7 +171,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
                         passValid += valid;
                         passInvalid += invalid;
                         samplesDone += static_cast<size_t>(pass->size().prod()) * passSize;
-                        progress.update(samplesDone);
+                        if (options.progress)
+                            options.progress(samplesDone, pixelCount * targetSpp);
                         passBlocks[index] = std::move(pass);
                     }
                 },
@@ -192,20 +196,18 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
         result.samplesTaken += passValid;
         result.invalidSamples += passInvalid;
         if (options.passFinished)
-            options.passFinished(film,
-                                 {result.passes, sppDone, targetSpp, progress.elapsedSeconds()});
+            options.passFinished(film, {result.passes, sppDone, targetSpp, elapsedSeconds()});
         if (film.convergedPixels() == pixelCount)
             break; // adaptive sampling stopped every pixel
     }
 
-    progress.finish();
     result.cancelled = isCancelled(options);
     result.samplesPerPixel = sppDone;
     result.complete =
         !result.cancelled && (sppDone == targetSpp || film.convergedPixels() == pixelCount);
     result.convergedPixels = film.convergedPixels();
-    result.seconds = progress.elapsedSeconds();
-    result.layers = film.develop(options.mergeWeights);
+    result.seconds = elapsedSeconds();
+    result.layers = film.develop(options.keepFilterWeights);
     result.image = result.layers.layer("");
     return result;
 }

@@ -1,6 +1,7 @@
 #include <nori/camera.h>
 #include <nori/mesh.h>
 #include <nori/scene.h>
+#include <nori/shading.h>
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -29,7 +30,7 @@ bool Scene::rayIntersect(const Ray3f &ray, Intersection &its) const {
     ++m_rayCounter->perThread.local();
     if (!m_contents.accel().rayIntersect(ray, its, false))
         return false;
-    its.shape->completeHit(ray, its);
+    completeHit(ray, its);
     return true;
 }
 
@@ -94,7 +95,10 @@ void Scene::activate() {
         throw NoriException("the scene has no camera");
     if (!m_sampler)
         m_sampler = createDefault<Sampler>("independent");
-    m_needsRayDifferentials = m_contents.usesFootprint();
+    m_needsRayDifferentials = false;
+    m_contents.visitShapes([this](const Shape &shape) {
+        m_needsRayDifferentials = m_needsRayDifferentials || usesFootprint(shape);
+    });
     for (const auto &shape : getShapes()) {
         if (shape->getEmitterPtr())
             m_emitters.push_back(shape->getEmitterPtr());

@@ -1,9 +1,9 @@
 // libFuzzer target of the image decoders (PNG, JPEG, HDR, EXR with every channel and
-// its attributes, PFM; src/core/imagefile.cpp) and of the header of a split render's
-// part (src/render/renderpart.cpp):
+// its attributes, PFM; src/image/imagefile.cpp) and of the header of a split render's
+// part (src/app/renderpart.cpp):
 // any input must decode or end in a NoriException, within 2^20 pixels.
+#include "app/renderpart.h"
 #include <nori/imagefile.h>
-#include <nori/renderpart.h>
 
 #include <cstdint>
 #include <string>

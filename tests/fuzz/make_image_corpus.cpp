@@ -3,9 +3,9 @@
 // with attributes, a part of a split render) and PFM files, made with the writers the project links
 // (stb_image_write, tinyexr) and its own (LayeredImage, Bitmap::savePFM).
 //   nori-make-image-corpus tests/fuzz/corpus/image
+#include "app/renderpart.h"
 #include <nori/film.h>
 #include <nori/layeredimage.h>
-#include <nori/renderpart.h>
 
 #include <stb_image_write.h>
 #include <tinyexr.h>

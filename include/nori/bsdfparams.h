@@ -1,0 +1,53 @@
+// The parameters of BSDF plugins that may be textures, read once here for every plugin
+// that has them: a microfacet roughness `alpha` and a conductor's complex index of
+// refraction. The maths they feed lives in microfacet.h and fresnel.h.
+#pragma once
+
+#include <nori/fresnel.h>
+#include <nori/microfacet.h>
+#include <nori/texture.h>
+
+#include <string>
+
+namespace nori {
+
+/// A microfacet distribution whose roughness may be a texture: the rough BSDFs build the
+/// distribution of each query point with at().
+class TexturedMicrofacet {
+public:
+    /// Reads `alpha` (a positive float or a float texture) through `textures`; `plugin`
+    /// names the BSDF in errors.
+    TexturedMicrofacet(MicrofacetDistribution::Type type, const PropertyList &props,
+                       TextureParameters &textures, const std::string &plugin);
+
+    /// The distribution at q. Texture values are clamped to at least kMinAlpha, below
+    /// which the lobes underflow in single precision.
+    MicrofacetDistribution at(const TextureQuery &q) const {
+        return MicrofacetDistribution(m_type, std::max(m_alpha->evalFloat(q), kMinAlpha));
+    }
+    MicrofacetDistribution::Type type() const { return m_type; }
+    const Texture &alpha() const { return *m_alpha; }
+
+    static constexpr float kMinAlpha = 1e-4f;
+
+private:
+    MicrofacetDistribution::Type m_type;
+    std::shared_ptr<const Texture> m_alpha;
+};
+
+/// A conductor's complex index of refraction relative to the outside, η + ik, whose parts
+/// may be textures.
+struct ConductorIOR {
+    std::shared_ptr<const Texture> eta, k;
+    float extIOR = 1.0f;
+    /// The Fresnel reflectance at the query's point for an incident cosine.
+    Color3f fresnel(const TextureQuery &q, float cosThetaI) const;
+};
+
+/// Reads a conductor's complex index from a plugin's properties: `material` (a named
+/// metal) or `eta` and `k` (colours or textures; default: copper), relative to `extIOR`
+/// (default air).
+ConductorIOR readConductorIOR(const PropertyList &props, const std::string &plugin,
+                              TextureParameters &textures);
+
+} // namespace nori

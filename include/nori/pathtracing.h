@@ -1,0 +1,80 @@
+// What every integrator that traces paths shares (path, direct, volpath, whitted, the
+// photon mappers): next-event estimation, the multiple importance sampling weights, the
+// depth limits and Russian roulette. The loops themselves live in the plugins
+// (plugins/integrators/path.cpp is the one to read first).
+#pragma once
+
+#include <nori/color.h>
+#include <nori/ray.h>
+
+#include <functional>
+#include <string>
+
+namespace nori {
+
+class BSDF;
+class Emitter;
+class PropertyList;
+class Scene;
+struct EmitterQueryRecord;
+struct Intersection;
+
+/// The balance heuristic weight of a sample taken with density `pdf` against another
+/// strategy that would take it with density `otherPdf` (Veach 1997, §9.2.1).
+inline float balanceHeuristic(float pdf, float otherPdf) {
+    return pdf / (pdf + otherPdf);
+}
+
+/// One light sample at the surface point `its` (next-event estimation; PBR 4th ed.
+/// §13.4.2): picks a light by power (pmf from Scene::sampleEmitter), samples a point on
+/// it, tests visibility and returns its contribution f·L·|cos θ|/(pdf·pmf) toward
+/// wiLocal (local). With `mis`, the contribution carries the balance-heuristic weight
+/// against BSDF sampling (delta lights keep weight 1). `emitterSample` picks the light,
+/// `sample` the point on it.
+Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
+                          const Vector3f &wiLocal, bool mis, float emitterSample,
+                          const Point2f &sample);
+
+/// The fraction of light that crosses a shadow ray from a surface toward a light (world
+/// direction toLight): 0 or 1 for plain visibility, a transmittance through media.
+using ShadowTransmittance = std::function<Color3f(const Ray3f &shadowRay, const Vector3f &toLight)>;
+/// sampleDirectLight with the shadow ray's outcome given by `transmittance`.
+Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
+                          const Vector3f &wiLocal, bool mis, float emitterSample,
+                          const Point2f &sample, const ShadowTransmittance &transmittance);
+
+/// The emission `emitter` sends along a scattered (or camera) ray that found it: all of it
+/// after a specular event, else weighted by the balance heuristic against next-event
+/// estimation, whose density is the pmf of sampleEmitter times the light's own.
+/// `scatterPdf` is the solid-angle density with which the last vertex chose the ray.
+Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const EmitterQueryRecord &lRec,
+                        bool specularBounce, float scatterPdf);
+
+/// How long a path may grow: `maxDepth` scattering events after the camera ray (−1: no
+/// limit) and Russian roulette from event `rrDepth` on.
+struct PathDepth {
+    int maxDepth = -1;
+    int rrDepth = 3;
+
+    /// Reads `maxDepth` (default −1) and `rrDepth` (default 3); `plugin` names the
+    /// integrator in errors.
+    static PathDepth read(const PropertyList &props, const std::string &plugin);
+    /// Whether a path that has scattered `events` times may scatter once more.
+    bool mayScatter(int events) const { return maxDepth < 0 || events < maxDepth; }
+};
+
+/// Russian roulette after `events` scattering events (PBR 4th ed. §13.1.1): from rrDepth
+/// on, the path continues with probability q = min(0.99, max throughput) and its
+/// throughput is divided by q, so the estimate stays unbiased. Returns whether it
+/// continues.
+inline bool russianRoulette(int events, int rrDepth, Color3f &throughput, float sample) {
+    if (events < rrDepth)
+        return true;
+    const float q = std::min(0.99f, throughput.maxCoeff());
+    if (sample >= q)
+        return false;
+    throughput /= q;
+    return true;
+}
+
+} // namespace nori

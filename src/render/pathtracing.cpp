@@ -1,0 +1,66 @@
+#include <nori/bsdf.h>
+#include <nori/emitter.h>
+#include <nori/pathtracing.h>
+#include <nori/scene.h>
+
+namespace nori {
+
+Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
+                          const Vector3f &wiLocal, bool mis, float emitterSample,
+                          const Point2f &sample) {
+    return sampleDirectLight(scene, its, bsdf, wiLocal, mis, emitterSample, sample,
+                             [scene](const Ray3f &shadowRay, const Vector3f &) {
+                                 return Color3f(scene->rayIntersect(shadowRay) ? 0.0f : 1.0f);
+                             });
+}
+
+Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSDF &bsdf,
+                          const Vector3f &wiLocal, bool mis, float emitterSample,
+                          const Point2f &sample, const ShadowTransmittance &transmittance) {
+    float u = emitterSample, pmf;
+    const Emitter *emitter = scene->sampleEmitter(u, pmf);
+    if (!emitter || pmf == 0.0f)
+        return Color3f(0.0f);
+    EmitterQueryRecord lRec(its.p);
+    const Color3f radianceOverPdf = emitter->sample(lRec, sample);
+    // Light from below the geometric surface cannot reach a shading normal bent toward it.
+    if ((radianceOverPdf == 0.0f).all() || !its.sidesAgree(lRec.wi))
+        return Color3f(0.0f);
+    const BSDFQueryRecord bRec(its, wiLocal, its.toLocal(lRec.wi), ESolidAngle);
+    const Color3f f = bsdf.eval(bRec);
+    if ((f == 0.0f).all())
+        return Color3f(0.0f);
+    // The shadow ray last: it is the expensive part, and f = 0 makes it moot.
+    const Color3f visible = transmittance(its.spawnRayTo(lRec.p), lRec.wi);
+    if ((visible == 0.0f).all())
+        return Color3f(0.0f);
+    Color3f contribution =
+        f * radianceOverPdf * visible * (std::abs(Frame::cosTheta(bRec.wo)) / pmf);
+    if (mis && !emitter->isDelta())
+        // Against BSDF sampling of the same direction.
+        contribution *= balanceHeuristic(pmf * lRec.pdf, bsdf.pdf(bRec));
+    return contribution;
+}
+
+Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const EmitterQueryRecord &lRec,
+                        bool specularBounce, float scatterPdf) {
+    Color3f le = emitter.eval(lRec);
+    if (specularBounce || (le == 0.0f).all())
+        return le;
+    const float lightPdf = scene->emitterPmf(&emitter) * emitter.pdf(lRec);
+    return le * balanceHeuristic(scatterPdf, lightPdf);
+}
+
+PathDepth PathDepth::read(const PropertyList &props, const std::string &plugin) {
+    PathDepth depth;
+    depth.maxDepth = props.getInteger("maxDepth", -1);
+    depth.rrDepth = props.getInteger("rrDepth", 3);
+    if (depth.maxDepth == 0 || depth.maxDepth < -1)
+        throw NoriException("{}: 'maxDepth' must be positive or -1 (unbounded), got {}", plugin,
+                            depth.maxDepth);
+    if (depth.rrDepth < 1)
+        throw NoriException("{}: 'rrDepth' must be at least 1, got {}", plugin, depth.rrDepth);
+    return depth;
+}
+
+} // namespace nori

@@ -1,0 +1,192 @@
+// nori-bench-samplers: the figures of the progressive render loop and the samplers.
+//   1. MSE at 16 and 64 spp against a converged reference, on the diffuse Cornell box
+//      (scenes/cbox/cbox.xml, -D sphere=diffuse), direct lighting (direct_mis) and path
+//      tracing (path_mis): independent, stratified and sobol, as ratios to independent.
+//   2. The time overhead of passes (1, 1, 2, ..., 64 spp) over rendering each block at
+//      its full sample count in one pass (the loop before passes), best of 3.
+//   3. Adaptive sampling on the same box at equal time, and its bias on a white furnace
+//      with a known answer (a t-test over independent pixels).
+//
+//   nori-bench-samplers [--size N] [--reference-spp N] [--seeds N] [--threads N]
+#include "app/cli.h"
+#include <nori/bitmap.h>
+#include <nori/filesystem.h>
+#include <nori/parser.h>
+#include <nori/render.h>
+#include <nori/scene.h>
+#include <nori/statistics.h>
+#include <nori/strutil.h>
+
+#include <filesystem>
+#include <iostream>
+
+using namespace nori;
+
+namespace {
+
+struct Settings {
+    int size = 128, referenceSpp = 8192, seeds = 4, threads = 0;
+};
+
+/// The diffuse Cornell box, with `defines` over its defaults.
+std::shared_ptr<Scene> cornellBox(const Settings &settings, Defines defines) {
+    defines["size"] = std::to_string(settings.size);
+    defines["sphere"] = "diffuse";
+    return std::dynamic_pointer_cast<Scene>(
+        loadFromXML(std::string(NORI_SOURCE_DIR) + "/scenes/cbox/cbox.xml", LoadOptions(defines)));
+}
+
+RenderResult render(Scene &scene, const Settings &settings, RenderOptions options = {}) {
+    options.threads = settings.threads;
+    return renderScene(scene, options);
+}
+
+RenderResult renderBox(const Settings &settings, const Defines &defines) {
+    return render(*cornellBox(settings, defines), settings);
+}
+
+void samplerFigures(const Settings &settings) {
+    const std::vector<std::string> samplers = {"independent", "stratified", "sobol"};
+    for (const std::string integrator : {"direct_mis", "path_mis"}) {
+        const RenderResult reference =
+            renderBox(settings, {{"integrator", integrator},
+                                 {"sampler", "sobol"},
+                                 {"spp", std::to_string(settings.referenceSpp)}});
+        std::cout << fmt::format("{}: reference {}x{} at {} spp (sobol) in {:.1f} s\n", integrator,
+                                 settings.size, settings.size, settings.referenceSpp,
+                                 reference.seconds);
+        for (int spp : {16, 64}) {
+            std::vector<double> errors;
+            for (const std::string &sampler : samplers) {
+                double mse = 0.0; // averaged over seeds 1..n (the reference used seed 0)
+                for (int seed = 1; seed <= settings.seeds; ++seed)
+                    mse += meanSquaredError(renderBox(settings, {{"integrator", integrator},
+                                                                 {"sampler", sampler},
+                                                                 {"spp", std::to_string(spp)},
+                                                                 {"seed", std::to_string(seed)}})
+                                                .image,
+                                            reference.image) /
+                           settings.seeds;
+                errors.push_back(mse);
+            }
+            std::cout << fmt::format("  {:>3} spp  MSE independent {:.3e}  stratified {:.3e} "
+                                     "({:.2f}x)  sobol {:.3e} ({:.2f}x)\n",
+                                     spp, errors[0], errors[1], errors[1] / errors[0], errors[2],
+                                     errors[2] / errors[0]);
+        }
+    }
+}
+
+void passOverheadFigures(const Settings &settings) {
+    auto scene = cornellBox(settings, {{"integrator", "path_mis"}, {"spp", "64"}});
+    double passes = 1e30, onePass = 1e30;
+    for (int run = 0; run < 3; ++run) {
+        passes = std::min(passes, render(*scene, settings).seconds);
+        RenderOptions whole;
+        whole.minPassSamples = whole.maxPassSamples = 64;
+        onePass = std::min(onePass, render(*scene, settings, whole).seconds);
+    }
+    std::cout << fmt::format("path_mis, 64 spp, {}x{}: passes 1, 1, 2, ..., 32: {:.3f} s; one "
+                             "pass: {:.3f} s; overhead {:+.1f}%\n",
+                             settings.size, settings.size, passes, onePass,
+                             100.0 * (passes / onePass - 1.0));
+}
+
+void adaptiveFigures(const Settings &settings) {
+    const RenderResult reference =
+        renderBox(settings, {{"sampler", "sobol"}, {"spp", std::to_string(settings.referenceSpp)}});
+    // Adaptive sampling reconstructs pixels by filter importance sampling, which keeps
+    // the noise of neighbouring pixels apart: the baseline does too.
+    RenderOptions filterSampled;
+    filterSampled.filterImportanceSampling = true;
+    const RenderResult uniform =
+        render(*cornellBox(settings, {{"spp", "64"}}), settings, filterSampled);
+    const double uniformMse = meanSquaredError(uniform.image, reference.image);
+    std::cout << fmt::format("adaptive sampling, path_mis on the box (filter importance "
+                             "sampling): 64 spp everywhere in {:.2f} s: MSE {:.3e}\n",
+                             uniform.seconds, uniformMse);
+    for (const char *tolerance : {"0.02", "0.05", "0.1"}) {
+        // At most 4096 spp, within the time the uniform render took.
+        RenderOptions options = filterSampled;
+        options.timeBudget = uniform.seconds;
+        const RenderResult adaptive = render(
+            *cornellBox(settings, {{"spp", "4096"}, {"tolerance", tolerance}}), settings, options);
+        const double mse = meanSquaredError(adaptive.image, reference.image);
+        std::cout << fmt::format("  maxTolerance {}: {:.1f} spp on average, {} of {} pixels "
+                                 "stopped, {:.2f} s: MSE {:.3e} ({:.2f}x of uniform)\n",
+                                 tolerance,
+                                 double(adaptive.samplesTaken) / (settings.size * settings.size),
+                                 adaptive.convergedPixels, settings.size * settings.size,
+                                 adaptive.seconds, mse, mse / uniformMse);
+    }
+}
+
+/// Inside a closed box of albedo 0.6 emitting 0.4, every pixel sees Le/(1 − a) = 1: the
+/// bias of adaptive sampling as a t-test over 64 × 64 independent pixels (box filter).
+void adaptiveBiasFigures(const Settings &settings) {
+    const std::filesystem::path box = std::filesystem::temp_directory_path() / "nori-furnace.obj";
+    writeBinaryFile(box.string(),
+                    "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\n"
+                    "v 1 1 1\nv -1 1 1\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 4 3 7 8\n"
+                    "f 1 4 8 5\nf 2 6 7 3\n",
+                    "mesh");
+    for (const char *tolerance : {"0", "0.1", "0.3"}) {
+        auto scene = std::dynamic_pointer_cast<Scene>(loadFromXMLString(fmt::format(
+            R"(<scene><integrator type="path_mis"/>
+            <sampler type="independent"><integer name="sampleCount" value="256"/>
+                <float name="maxTolerance" value="{}"/></sampler>
+            <camera type="perspective"><integer name="width" value="64"/>
+                <integer name="height" value="64"/><rfilter type="box"/></camera>
+            <mesh type="obj"><string name="filename" value="{}"/>
+                <bsdf type="diffuse"><color name="albedo" value="0.6"/></bsdf>
+                <emitter type="area"><color name="radiance" value="0.4"/></emitter></mesh>
+            </scene>)",
+            tolerance, box.string())));
+        const RenderResult result = render(*scene, settings);
+        RunningMoments pixels;
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x)
+                pixels.add(result.image(y, x).r());
+        const StudentTResult test =
+            studentTTest(pixels.mean, pixels.variance(), pixels.count, 1.0, 0.01);
+        std::cout << fmt::format("furnace, maxTolerance {} (minSamples 16, at most 256 spp): "
+                                 "{:.1f} spp on average, mean {:.5f} (bias {:+.2f}%), t = {:.2f}: "
+                                 "{}\n",
+                                 tolerance, double(result.samplesTaken) / (64 * 64), pixels.mean,
+                                 100.0 * (pixels.mean - 1.0), test.t,
+                                 test.passed ? "no bias detected" : "biased");
+    }
+    std::filesystem::remove(box);
+}
+
+int run(const Settings &settings) {
+    samplerFigures(settings);
+    passOverheadFigures(settings);
+    adaptiveFigures(settings);
+    adaptiveBiasFigures(settings);
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+    CLI::App app("The figures of the samplers and the progressive loop: MSE per sampler, the "
+                 "pass overhead, adaptive sampling.",
+                 "nori-bench-samplers");
+    configureCommandLine(app);
+    Settings settings;
+    app.add_option("--size", settings.size, "image size")
+        ->type_name("N")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--reference-spp", settings.referenceSpp, "of the reference")
+        ->type_name("N")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--seeds", settings.seeds, "seeds averaged over")
+        ->type_name("N")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--threads", settings.threads, "threads")
+        ->type_name("N")
+        ->check(CLI::PositiveNumber);
+    wrapDescriptions(app);
+    return runCommandLine(app, argc, argv, [&] { return run(settings); });
+}
