@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
 """The layering check: every #include in src/ and include/nori/ names a header of the
-file's own area or of an area below it, as src/CMakeLists.txt declares them.
+file's own area or of an area below it, as src/CMakeLists.txt declares them; and no
+area's library uses a symbol that only an area above it defines.
 
-    check_layers.py ROOT TABLE
+    check_layers.py ROOT TABLE                 the includes of the source tree ROOT
+    check_layers.py --symbols LIBDIR TABLE     the libraries libnori_AREA.a in LIBDIR
 
-ROOT is a source tree, TABLE the build's generated/layers.txt. Prints each violation as
-"file:line: ..." and exits 1 when there is one; ctest runs it (layers.*)."""
+TABLE is the build's generated/layers.txt. Prints each violation and exits 1 when there
+is one; ctest runs both (layers.*)."""
 import re
+import subprocess
 import sys
 from pathlib import Path
 
@@ -92,7 +95,46 @@ def main(root, table):
     return 0
 
 
+def check_symbols(libdir, table):
+    """Undefined symbols of each area's library that only libraries of areas not below it
+    define (inline functions and templates, defined weakly wherever they are used, count
+    as defined by the user's own areas)."""
+    depends, _ = read_table(table)
+    defined, undefined = {}, {}
+    for area in depends:
+        listing = subprocess.run(["nm", "-g", str(Path(libdir) / f"libnori_{area}.a")],
+                                 capture_output=True, text=True, check=True).stdout
+        defined[area], undefined[area] = set(), set()
+        for line in listing.splitlines():
+            fields = line.split()
+            if len(fields) == 2 and fields[0] == "U":
+                undefined[area].add(fields[1])
+            elif len(fields) == 3 and fields[1] in "TDBRVWu":
+                defined[area].add(fields[2])
+    problems = []
+    for area in depends:
+        allowed = below(area, depends)
+        mine = set().union(*(defined[other] for other in allowed))
+        for other in depends:
+            if other in allowed:
+                continue
+            used = sorted((undefined[area] & defined[other]) - mine)
+            if used:
+                names = subprocess.run(["c++filt"] + used[:3], capture_output=True,
+                                       text=True).stdout.split("\n")
+                problems.append(f"libnori_{area}.a uses {len(used)} symbol(s) of area "
+                                f"'{other}', which is not below it, e.g. {names[0]}")
+    for problem in problems:
+        print(problem)
+    if problems:
+        return 1
+    print(f"layers: {len(depends)} libraries, every symbol they use is defined below them")
+    return 0
+
+
 if __name__ == "__main__":
+    if len(sys.argv) == 4 and sys.argv[1] == "--symbols":
+        sys.exit(check_symbols(sys.argv[2], sys.argv[3]))
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     sys.exit(main(sys.argv[1], sys.argv[2]))

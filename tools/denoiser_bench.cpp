@@ -7,6 +7,7 @@
 //   nori-bench-denoiser [--threads N] [--write DIR]   (DIR: the images, as PFM and PNG)
 //   nori-bench-denoiser --make-references   (renders tests/data/denoiser/*.exr)
 #include "app/cli.h"
+#include "app/program.h"
 #include "denoise/denoiser.h"
 #include <nori/render.h>
 #include <nori/scene.h>
@@ -97,18 +98,21 @@ int run(int threads, bool makeReferences, const std::string &writeFolder) {
 } // namespace
 
 int main(int argc, char **argv) {
-    CLI::App app("The figures of the denoiser: relMSE of the noisy and denoised images against "
-                 "converged references, and the time to denoise.",
-                 "nori-bench-denoiser");
-    configureCommandLine(app);
-    int threads = 0;
-    bool makeReferences = false;
-    std::string writeFolder;
-    app.add_option("--threads", threads, "threads (default: all cores)")->type_name("N");
-    app.add_option("--write", writeFolder, "also write the images to DIR")->type_name("DIR");
-    app.add_flag("--make-references", makeReferences,
-                 "render the converged references the tests compare against");
-    wrapDescriptions(app);
-    return runCommandLine(app, argc, argv,
-                          [&] { return run(threads, makeReferences, writeFolder); });
+    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
+    return runProgram([&] {
+        CLI::App app("The figures of the denoiser: relMSE of the noisy and denoised images against "
+                     "converged references, and the time to denoise.",
+                     "nori-bench-denoiser");
+        configureCommandLine(app);
+        int threads = 0;
+        bool makeReferences = false;
+        std::string writeFolder;
+        app.add_option("--threads", threads, "threads (default: all cores)")->type_name("N");
+        app.add_option("--write", writeFolder, "also write the images to DIR")->type_name("DIR");
+        app.add_flag("--make-references", makeReferences,
+                     "render the converged references the tests compare against");
+        wrapDescriptions(app);
+        return runCommandLine(app, argc, argv,
+                              [&] { return run(threads, makeReferences, writeFolder); });
+    });
 }

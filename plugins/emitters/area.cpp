@@ -1,8 +1,8 @@
 /*
  * area — a diffuse area light: radiance (constant or textured over the shape's uv)
- * leaving the front side of the shape it
- * is nested in: the side its vertex normals point to (as Nori 2 and pbrt decide, even
- * when the triangles wind the other way), else the side of its winding's normal.
+ * leaving the front side of the shape it is nested in: the side its vertex normals
+ * point to (as Nori 2 and pbrt decide, even when the triangles wind the other way),
+ * else the side of its winding's normal.
  * Points are sampled by the shape: by area for meshes, through the subtended cone for
  * spheres. Photons leave a point uniform by area in a cosine-weighted direction.
  *

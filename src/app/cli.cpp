@@ -13,7 +13,7 @@ constexpr size_t kOptionColumn = 28, kHelpWidth = 100;
 
 /// CLI11's message, in the words the rest of nori uses for the same mistakes.
 std::string describe(const CLI::ParseError &error) {
-    const std::string message = error.what();
+    std::string message = error.what();
     // "The following arguments were not expected: --sppp x"
     static const std::regex kExtras("The following argument(s were|was) not expected: (.*)");
     std::smatch match;

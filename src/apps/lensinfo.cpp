@@ -3,6 +3,7 @@
 // distance after focusing, the exit pupil at a few film radii, and the fraction of
 // camera rays the lens blocks with exit-pupil sampling and without it.
 #include "app/cli.h"
+#include "app/program.h"
 #include <nori/common.h>
 #include <nori/lenssystem.h>
 #include <nori/strutil.h>
@@ -75,26 +76,30 @@ int report(const Options &options) {
 }
 
 int main(int argc, char **argv) {
-    CLI::App app("What a lens file describes, and how well the realistic camera samples it: "
-                 "the effective focal length, cardinal points, nearest focus distance, the "
-                 "film distance after focusing, the exit pupil at a few film radii, and the "
-                 "fraction of camera rays the lens blocks with exit-pupil sampling and "
-                 "without it.",
-                 "nori-lensinfo");
-    configureCommandLine(app);
-    Options options;
-    app.add_option("lens", options.lensFile, "the lens file (pbrt's tabular format)")
-        ->type_name("LENS.dat")
-        ->required();
-    app.add_option("--focus", options.focus, "focus distance from the film (default 10)")
-        ->type_name("METRES");
-    app.add_option("--aperture", options.aperture,
-                   "diameter of the iris (default 0: the lens's own)")
-        ->type_name("MM");
-    app.add_option("--film-diagonal", options.filmDiagonal, "the film's diagonal (default 35)")
-        ->type_name("MM");
-    app.add_option("--width", options.width, "image width (default 1280)")->type_name("PIXELS");
-    app.add_option("--height", options.height, "image height (default 720)")->type_name("PIXELS");
-    wrapDescriptions(app);
-    return runCommandLine(app, argc, argv, [&] { return report(options); });
+    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
+    return runProgram([&] {
+        CLI::App app("What a lens file describes, and how well the realistic camera samples it: "
+                     "the effective focal length, cardinal points, nearest focus distance, the "
+                     "film distance after focusing, the exit pupil at a few film radii, and the "
+                     "fraction of camera rays the lens blocks with exit-pupil sampling and "
+                     "without it.",
+                     "nori-lensinfo");
+        configureCommandLine(app);
+        Options options;
+        app.add_option("lens", options.lensFile, "the lens file (pbrt's tabular format)")
+            ->type_name("LENS.dat")
+            ->required();
+        app.add_option("--focus", options.focus, "focus distance from the film (default 10)")
+            ->type_name("METRES");
+        app.add_option("--aperture", options.aperture,
+                       "diameter of the iris (default 0: the lens's own)")
+            ->type_name("MM");
+        app.add_option("--film-diagonal", options.filmDiagonal, "the film's diagonal (default 35)")
+            ->type_name("MM");
+        app.add_option("--width", options.width, "image width (default 1280)")->type_name("PIXELS");
+        app.add_option("--height", options.height, "image height (default 720)")
+            ->type_name("PIXELS");
+        wrapDescriptions(app);
+        return runCommandLine(app, argc, argv, [&] { return report(options); });
+    });
 }

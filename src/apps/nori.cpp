@@ -654,16 +654,19 @@ int run(Options &options) {
 } // namespace
 
 int main(int argc, char **argv) {
-    CLI::App app("", "nori");
-    Options options;
-    OptionTexts texts;
-    defineCommandLine(app, options, texts);
-    std::vector<std::string> arguments = attachPreviewPorts(argc, argv);
-    std::vector<char *> pointers;
-    for (std::string &argument : arguments)
-        pointers.push_back(argument.data());
-    return runCommandLine(app, static_cast<int>(pointers.size()), pointers.data(), [&] {
-        checkOptions(app, options, texts);
-        return run(options);
+    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
+    return runProgram([&] {
+        CLI::App app("", "nori");
+        Options options;
+        OptionTexts texts;
+        defineCommandLine(app, options, texts);
+        std::vector<std::string> arguments = attachPreviewPorts(argc, argv);
+        std::vector<char *> pointers;
+        for (std::string &argument : arguments)
+            pointers.push_back(argument.data());
+        return runCommandLine(app, static_cast<int>(pointers.size()), pointers.data(), [&] {
+            checkOptions(app, options, texts);
+            return run(options);
+        });
     });
 }

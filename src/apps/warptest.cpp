@@ -2,6 +2,7 @@
 // the observed and expected histograms and their difference, so a student can see where
 // a sampler goes wrong.
 #include "app/cli.h"
+#include "app/program.h"
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/parser.h>
@@ -145,36 +146,43 @@ int run(Arguments &arguments) {
 } // namespace
 
 int main(int argc, char **argv) {
-    CLI::App app(kDescription, "warptest");
-    configureCommandLine(app);
-    app.footer(kFooter);
-    Arguments arguments;
-    app.add_option("what", arguments.positional, "what to test, and its XML")
-        ->type_name("WHAT [XML]");
-    app.add_option("--param", arguments.parameter, "the warp's parameter (alpha, g, cosThetaMax)")
-        ->type_name("V");
-    app.add_option("--angle", arguments.angle,
-                   "incident angle from the normal for bsdf/phase (default 30)")
-        ->type_name("DEG");
-    app.add_option("--ref", arguments.ref, "reference point for emitters (default 0,0,0)")
-        ->type_name("x,y,z")
-        ->delimiter(',')
-        ->expected(3);
-    app.add_option("--resolution", arguments.options.resolution,
-                   "histogram bins along cos(theta) or x (default 10)")
-        ->type_name("N");
-    app.add_option("--samples", arguments.options.sampleCount,
-                   "number of samples (default 5000 per bin)")
-        ->type_name("N");
-    app.add_option("--significance", arguments.options.significanceLevel,
-                   "significance level (default 0.01)")
-        ->type_name("A");
-    app.add_option("--seed", arguments.options.seed, "seed of the uniform samples (default 0)")
-        ->type_name("S");
-    app.add_option("--out", arguments.outDir, "folder for the picture (default .)")
-        ->type_name("DIR");
-    app.add_flag("--list", arguments.list, "list the warps");
-    wrapDescriptions(app);
-    return runCommandLine(
-        app, argc, argv, [&] { return run(arguments); }, 2);
+    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
+    return runProgram(
+        [&] {
+            CLI::App app(kDescription, "warptest");
+            configureCommandLine(app);
+            app.footer(kFooter);
+            Arguments arguments;
+            app.add_option("what", arguments.positional, "what to test, and its XML")
+                ->type_name("WHAT [XML]");
+            app.add_option("--param", arguments.parameter,
+                           "the warp's parameter (alpha, g, cosThetaMax)")
+                ->type_name("V");
+            app.add_option("--angle", arguments.angle,
+                           "incident angle from the normal for bsdf/phase (default 30)")
+                ->type_name("DEG");
+            app.add_option("--ref", arguments.ref, "reference point for emitters (default 0,0,0)")
+                ->type_name("x,y,z")
+                ->delimiter(',')
+                ->expected(3);
+            app.add_option("--resolution", arguments.options.resolution,
+                           "histogram bins along cos(theta) or x (default 10)")
+                ->type_name("N");
+            app.add_option("--samples", arguments.options.sampleCount,
+                           "number of samples (default 5000 per bin)")
+                ->type_name("N");
+            app.add_option("--significance", arguments.options.significanceLevel,
+                           "significance level (default 0.01)")
+                ->type_name("A");
+            app.add_option("--seed", arguments.options.seed,
+                           "seed of the uniform samples (default 0)")
+                ->type_name("S");
+            app.add_option("--out", arguments.outDir, "folder for the picture (default .)")
+                ->type_name("DIR");
+            app.add_flag("--list", arguments.list, "list the warps");
+            wrapDescriptions(app);
+            return runCommandLine(
+                app, argc, argv, [&] { return run(arguments); }, 2);
+        },
+        2);
 }
