@@ -7,7 +7,6 @@
 //   nori-bench-denoiser [--threads N] [--write DIR]   (DIR: the images, as PFM and PNG)
 //   nori-bench-denoiser --make-references   (renders tests/data/denoiser/*.exr)
 #include "app/cli.h"
-#include "app/program.h"
 #include "denoise/denoiser.h"
 #include <nori/render.h>
 #include <nori/scene.h>
@@ -98,21 +97,19 @@ int run(int threads, bool makeReferences, const std::string &writeFolder) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram([&] {
-        CLI::App app("The figures of the denoiser: relMSE of the noisy and denoised images against "
-                     "converged references, and the time to denoise.",
-                     "nori-bench-denoiser");
-        configureCommandLine(app);
-        int threads = 0;
-        bool makeReferences = false;
-        std::string writeFolder;
-        app.add_option("--threads", threads, "threads (default: all cores)")->type_name("N");
-        app.add_option("--write", writeFolder, "also write the images to DIR")->type_name("DIR");
-        app.add_flag("--make-references", makeReferences,
-                     "render the converged references the tests compare against");
-        wrapDescriptions(app);
-        return runCommandLine(app, argc, argv,
-                              [&] { return run(threads, makeReferences, writeFolder); });
-    });
+    int threads = 0;
+    bool makeReferences = false;
+    std::string writeFolder;
+    return runCommandLine(
+        argc, argv, "nori-bench-denoiser",
+        "The figures of the denoiser: relMSE of the noisy and denoised images against "
+        "converged references, and the time to denoise.",
+        [&](CLI::App &app) {
+            app.add_option("--threads", threads, "threads (default: all cores)")->type_name("N");
+            app.add_option("--write", writeFolder, "also write the images to DIR")
+                ->type_name("DIR");
+            app.add_flag("--make-references", makeReferences,
+                         "render the converged references the tests compare against");
+        },
+        [&](const CLI::App &) { return run(threads, makeReferences, writeFolder); });
 }

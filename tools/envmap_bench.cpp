@@ -8,7 +8,6 @@
 //
 //   nori-bench-envmap [--spp N] [--reference-spp N] [--width W --height H]
 #include "app/cli.h"
-#include "app/program.h"
 #include <nori/bitmap.h>
 #include <nori/dpdf.h>
 #include <nori/emitter.h>
@@ -108,21 +107,18 @@ int run(int spp, int referenceSpp, int width, int height) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram([&] {
-        CLI::App app("The figures of environment-map lighting: the distribution's build time, and "
-                     "the RMSE of importance against uniform sampling.",
-                     "nori-bench-envmap");
-        configureCommandLine(app);
-        int spp = 16, referenceSpp = 2048, width = 240, height = 135;
-        app.add_option("--spp", spp, "samples per pixel of the compared renders (default 16)")
-            ->type_name("N");
-        app.add_option("--reference-spp", referenceSpp, "of the reference (default 2048)")
-            ->type_name("N");
-        app.add_option("--width", width, "image width (default 240)")->type_name("W");
-        app.add_option("--height", height, "image height (default 135)")->type_name("H");
-        wrapDescriptions(app);
-        return runCommandLine(app, argc, argv,
-                              [&] { return run(spp, referenceSpp, width, height); });
-    });
+    int spp = 16, referenceSpp = 2048, width = 240, height = 135;
+    return runCommandLine(
+        argc, argv, "nori-bench-envmap",
+        "The figures of environment-map lighting: the distribution's build time, and the RMSE "
+        "of importance against uniform sampling.",
+        [&](CLI::App &app) {
+            app.add_option("--spp", spp, "samples per pixel of the compared renders (default 16)")
+                ->type_name("N");
+            app.add_option("--reference-spp", referenceSpp, "of the reference (default 2048)")
+                ->type_name("N");
+            app.add_option("--width", width, "image width (default 240)")->type_name("W");
+            app.add_option("--height", height, "image height (default 135)")->type_name("H");
+        },
+        [&](const CLI::App &) { return run(spp, referenceSpp, width, height); });
 }

@@ -9,7 +9,6 @@
 //   nori-bench --make-mesh 10000 mesh.obj
 //   nori-bench-instances mesh.obj [N ...]        (default: 10000 100000 1000000)
 #include "app/cli.h"
-#include "app/program.h"
 #include <nori/instance.h>
 #include <nori/pcg32.h>
 #include <nori/scene.h>
@@ -158,20 +157,20 @@ int run(const std::string &meshFile, std::vector<size_t> counts) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram([&] {
-        CLI::App app("The figures of instancing: places a mesh N times with random rotations and "
-                     "translations, as the parser does, and prints the build time and the bytes "
-                     "each instance costs.",
-                     "nori-bench-instances");
-        configureCommandLine(app);
-        std::string meshFile;
-        std::vector<size_t> counts;
-        app.add_option("mesh", meshFile, "the mesh to instance")->type_name("MESH.obj")->required();
-        app.add_option("counts", counts, "instance counts (default 10000 100000 1000000)")
-            ->type_name("N")
-            ->check(CLI::PositiveNumber);
-        wrapDescriptions(app);
-        return runCommandLine(app, argc, argv, [&] { return run(meshFile, counts); });
-    });
+    std::string meshFile;
+    std::vector<size_t> counts;
+    return runCommandLine(
+        argc, argv, "nori-bench-instances",
+        "The figures of instancing: places a mesh N times with random rotations and "
+        "translations, as the parser does, and prints the build time and the bytes each "
+        "instance costs.",
+        [&](CLI::App &app) {
+            app.add_option("mesh", meshFile, "the mesh to instance")
+                ->type_name("MESH.obj")
+                ->required();
+            app.add_option("counts", counts, "instance counts (default 10000 100000 1000000)")
+                ->type_name("N")
+                ->check(CLI::PositiveNumber);
+        },
+        [&](const CLI::App &) { return run(meshFile, counts); });
 }

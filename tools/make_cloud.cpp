@@ -4,7 +4,6 @@
 // a union of soft spheres with a flattened base, eroded by three octaves of value noise,
 // densities in [0, 1]. The output depends on nothing but RESOLUTION.
 #include "app/cli.h"
-#include "app/program.h"
 #include <nori/hash.h>
 #include <nori/volumegrid.h>
 
@@ -89,18 +88,16 @@ int run(const std::string &directory, int resolution) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram([&] {
-        CLI::App app("Writes the procedural cloud of the media example as DIR/cloud.vol and "
-                     "DIR/cloud.nvdb.",
-                     "nori-make-cloud");
-        configureCommandLine(app);
-        std::string directory;
-        int resolution = 40;
-        app.add_option("directory", directory, "where to write")->type_name("DIR")->required();
-        app.add_option("resolution", resolution, "voxels along each axis, 2 to 512 (default 40)")
-            ->type_name("RESOLUTION");
-        wrapDescriptions(app);
-        return runCommandLine(app, argc, argv, [&] { return run(directory, resolution); });
-    });
+    std::string directory;
+    int resolution = 40;
+    return runCommandLine(
+        argc, argv, "nori-make-cloud",
+        "Writes the procedural cloud of the media example as DIR/cloud.vol and DIR/cloud.nvdb.",
+        [&](CLI::App &app) {
+            app.add_option("directory", directory, "where to write")->type_name("DIR")->required();
+            app.add_option("resolution", resolution,
+                           "voxels along each axis, 2 to 512 (default 40)")
+                ->type_name("RESOLUTION");
+        },
+        [&](const CLI::App &) { return run(directory, resolution); });
 }

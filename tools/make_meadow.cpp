@@ -6,7 +6,6 @@
 // With --flat it also writes meadow_flat.xml: the same blades as 102,400 instances of
 // one level (each transform composed), as a course exporter writes particle systems.
 #include "app/cli.h"
-#include "app/program.h"
 #include <nori/pcg32.h>
 #include <nori/strutil.h>
 #include <nori/transform.h>
@@ -203,17 +202,15 @@ int run(const std::string &directory, bool flat) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram([&] {
-        CLI::App app("Writes the meadow example: DIR/blade.obj and DIR/meadow.xml, 102,400 grass "
-                     "blades in three levels of instances.",
-                     "nori-make-meadow");
-        configureCommandLine(app);
-        std::string directory;
-        bool flat = false;
-        app.add_option("directory", directory, "where to write")->type_name("DIR")->required();
-        app.add_flag("--flat", flat, "also write meadow_flat.xml, one instance per blade");
-        wrapDescriptions(app);
-        return runCommandLine(app, argc, argv, [&] { return run(directory, flat); });
-    });
+    std::string directory;
+    bool flat = false;
+    return runCommandLine(
+        argc, argv, "nori-make-meadow",
+        "Writes the meadow example: DIR/blade.obj and DIR/meadow.xml, 102,400 grass blades in "
+        "three levels of instances.",
+        [&](CLI::App &app) {
+            app.add_option("directory", directory, "where to write")->type_name("DIR")->required();
+            app.add_flag("--flat", flat, "also write meadow_flat.xml, one instance per blade");
+        },
+        [&](const CLI::App &) { return run(directory, flat); });
 }

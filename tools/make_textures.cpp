@@ -7,7 +7,6 @@
 //   sky.exr            256×128 lat-long environment (envmap's convention): a blue sky
 //                      brightening toward the horizon, a grey ground and a small sun
 #include "app/cli.h"
-#include "app/program.h"
 #include <nori/bitmap.h>
 #include <nori/vector.h>
 
@@ -130,25 +129,19 @@ void writeSky(const std::filesystem::path &file) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram(
-        [&] {
-            CLI::App app("Writes the example scenes' textures (scenes/textured/textures).",
-                         "nori-make-textures");
-            configureCommandLine(app);
-            std::string directory;
+    std::string directory;
+    return runCommandLine(
+        argc, argv, "nori-make-textures",
+        "Writes the example scenes' textures (scenes/textured/textures).",
+        [&](CLI::App &app) {
             app.add_option("directory", directory, "where to write")
                 ->type_name("DIRECTORY")
                 ->required();
-            wrapDescriptions(app);
-            return runCommandLine(
-                app, argc, argv,
-                [&] {
-                    writeTextures(directory);
-                    writeSky(std::filesystem::path(directory) / "sky.exr");
-                    return 0;
-                },
-                2);
+        },
+        [&](const CLI::App &) {
+            writeTextures(directory);
+            writeSky(std::filesystem::path(directory) / "sky.exr");
+            return 0;
         },
         2);
 }

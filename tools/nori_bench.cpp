@@ -8,7 +8,6 @@
 // small mesh, then measures with one thread (pinned to one core) and with T threads
 // (default: all).
 #include "app/cli.h"
-#include "app/program.h"
 #include <nori/accel.h>
 #include <nori/mesh.h>
 #include <nori/pcg32.h>
@@ -419,28 +418,28 @@ int run(const Arguments &arguments) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram([&] {
-        CLI::App app("The BVH benchmark: checks the BVH against brute force, then measures its "
-                     "build and its throughput for primary, incoherent and shadow rays, on one "
-                     "pinned thread and on all (against Embree 3 in the same run when it is "
-                     "installed). Prints one `name value` per line.",
-                     "nori-bench");
-        configureCommandLine(app);
-        Arguments arguments;
-        app.add_option("mesh", arguments.meshFile, "the mesh to trace rays against")
-            ->type_name("MESH.obj");
-        app.add_option("--rays", arguments.rayCount, "rays per set (default 1000000)")
-            ->type_name("N");
-        app.add_option("--threads", arguments.threads, "threads of the second run (default: all)")
-            ->type_name("T");
-        app.add_option("--rounds", arguments.rounds, "rounds, of which the best counts (default 3)")
-            ->type_name("R");
-        app.add_option("--make-mesh", arguments.makeMesh,
-                       "write a bumpy sphere of about TRIANGLES triangles to OUT.obj, and stop")
-            ->type_name("TRIANGLES OUT.obj")
-            ->expected(2);
-        wrapDescriptions(app);
-        return runCommandLine(app, argc, argv, [&] { return run(arguments); });
-    });
+    Arguments arguments;
+    return runCommandLine(
+        argc, argv, "nori-bench",
+        "The BVH benchmark: checks the BVH against brute force, then measures its build and "
+        "its throughput for primary, incoherent and shadow rays, on one pinned thread and on "
+        "all (against Embree 3 in the same run when it is installed). Prints one `name value` "
+        "per line.",
+        [&](CLI::App &app) {
+            app.add_option("mesh", arguments.meshFile, "the mesh to trace rays against")
+                ->type_name("MESH.obj");
+            app.add_option("--rays", arguments.rayCount, "rays per set (default 1000000)")
+                ->type_name("N");
+            app.add_option("--threads", arguments.threads,
+                           "threads of the second run (default: all)")
+                ->type_name("T");
+            app.add_option("--rounds", arguments.rounds,
+                           "rounds, of which the best counts (default 3)")
+                ->type_name("R");
+            app.add_option("--make-mesh", arguments.makeMesh,
+                           "write a bumpy sphere of about TRIANGLES triangles to OUT.obj, and stop")
+                ->type_name("TRIANGLES OUT.obj")
+                ->expected(2);
+        },
+        [&](const CLI::App &) { return run(arguments); });
 }

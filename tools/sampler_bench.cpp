@@ -9,7 +9,6 @@
 //
 //   nori-bench-samplers [--size N] [--reference-spp N] [--seeds N] [--threads N]
 #include "app/cli.h"
-#include "app/program.h"
 #include <nori/bitmap.h>
 #include <nori/filesystem.h>
 #include <nori/parser.h>
@@ -171,26 +170,24 @@ int run(const Settings &settings) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram([&] {
-        CLI::App app("The figures of the samplers and the progressive loop: MSE per sampler, the "
-                     "pass overhead, adaptive sampling.",
-                     "nori-bench-samplers");
-        configureCommandLine(app);
-        Settings settings;
-        app.add_option("--size", settings.size, "image size")
-            ->type_name("N")
-            ->check(CLI::PositiveNumber);
-        app.add_option("--reference-spp", settings.referenceSpp, "of the reference")
-            ->type_name("N")
-            ->check(CLI::PositiveNumber);
-        app.add_option("--seeds", settings.seeds, "seeds averaged over")
-            ->type_name("N")
-            ->check(CLI::PositiveNumber);
-        app.add_option("--threads", settings.threads, "threads")
-            ->type_name("N")
-            ->check(CLI::PositiveNumber);
-        wrapDescriptions(app);
-        return runCommandLine(app, argc, argv, [&] { return run(settings); });
-    });
+    Settings settings;
+    return runCommandLine(
+        argc, argv, "nori-bench-samplers",
+        "The figures of the samplers and the progressive loop: MSE per sampler, the pass "
+        "overhead, adaptive sampling.",
+        [&](CLI::App &app) {
+            app.add_option("--size", settings.size, "image size")
+                ->type_name("N")
+                ->check(CLI::PositiveNumber);
+            app.add_option("--reference-spp", settings.referenceSpp, "of the reference")
+                ->type_name("N")
+                ->check(CLI::PositiveNumber);
+            app.add_option("--seeds", settings.seeds, "seeds averaged over")
+                ->type_name("N")
+                ->check(CLI::PositiveNumber);
+            app.add_option("--threads", settings.threads, "threads")
+                ->type_name("N")
+                ->check(CLI::PositiveNumber);
+        },
+        [&](const CLI::App &) { return run(settings); });
 }

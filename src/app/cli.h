@@ -10,19 +10,15 @@
 
 namespace nori {
 
-/// Parses the command line into `app` and runs `body`, with runProgram's handling of
-/// errors. --help prints the help on stdout and returns 0; a command-line error (an
+/// What a program's main() does with its command line: makes the CLI11 application
+/// `name`, described by `description`; lets `define` add its options and subcommands;
+/// parses argv into them; runs `run` with the parsed application. --help prints the help
+/// of the command it was asked for on stdout and returns 0; a command-line error (an
 /// unknown option, a missing value) prints "Error: ... (see NAME --help)" on stderr and
-/// returns `errorStatus`, as does any exception `body` throws.
-int runCommandLine(CLI::App &app, int argc, char **argv, const std::function<int()> &body,
-                   int errorStatus = 1);
-
-/// The application every program starts from: its name and one paragraph on what it
-/// does, --help, and options listed in the order they are added.
-void configureCommandLine(CLI::App &app);
-
-/// Breaks the descriptions of the options of `app` and of its subcommands into lines
-/// that fit the help's 100 columns (CLI11 leaves them as one line each).
-void wrapDescriptions(CLI::App &app);
+/// returns `errorStatus`; an exception from `define` or `run` is reported as runProgram
+/// reports it, with `errorStatus` too.
+int runCommandLine(int argc, char **argv, const std::string &name, const std::string &description,
+                   const std::function<void(CLI::App &)> &define,
+                   const std::function<int(const CLI::App &)> &run, int errorStatus = 1);
 
 } // namespace nori

@@ -2,7 +2,6 @@
 // multi-layer EXR written by `nori --aovs ...`; `diff` compares a render with a reference;
 // `convert` changes an image's format; `info` prints its size, layers and statistics.
 #include "app/cli.h"
-#include "app/program.h"
 #include "denoise/denoiser.h"
 #include <nori/imagefile.h>
 #include <nori/layeredimage.h>
@@ -278,90 +277,91 @@ int infoCommand(const InfoOptions &options, bool layerGiven) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram([&] {
-        CLI::App app("Operations on rendered images.", "nori-imgtool");
-        configureCommandLine(app);
-        app.require_subcommand(1);
-
-        DenoiseOptions denoiseOptions;
-        CLI::App *denoise = app.add_subcommand(
-            "denoise", "Denoises the beauty of IN.exr, a render with the layers albedo, normal, "
-                       "depth and variance (nori --denoise, or nori --aovs "
-                       "albedo,normal,depth,variance), and writes OUT.exr and OUT.png.");
-        configureCommandLine(*denoise);
-        denoise->add_option("input", denoiseOptions.input, "the render")
-            ->type_name("IN.exr")
-            ->required();
-        denoise
-            ->add_option("-o,--output", denoiseOptions.output,
-                         "OUT (default: IN_denoised beside IN); IN is left as it is")
-            ->type_name("OUT");
-        denoise->add_option("-t,--threads", denoiseOptions.threads, "threads (default: all cores)")
-            ->type_name("N");
-
-        DiffOptions diffOptions;
-        CLI::App *diff = app.add_subcommand(
-            "diff", "Compares IMAGE with REFERENCE (EXR, PFM, HDR, PNG, JPEG; of one size) and "
-                    "prints one `key value` per line: rmse, relmse (Σ(a−b)²/(b²+0.01), per "
-                    "channel), maxabs, psnr (dB, the peak being REFERENCE's largest value or 1), "
-                    "pixels, differing (pixels not equal).");
-        configureCommandLine(*diff);
-        diff->add_option("files", diffOptions.files, "the render and the reference")
-            ->type_name("IMAGE REFERENCE")
-            ->expected(2)
-            ->required();
-        diff->add_option("--layer", diffOptions.layer,
-                         "compare an AOV layer of two EXRs (default: the beauty)")
-            ->type_name("NAME");
-        diff->add_option("--crop", diffOptions.crop,
-                         "compare only the W×H pixels from column X, row Y (a region of interest)")
-            ->type_name("X,Y,W,H");
-        diff->add_option("--tolerance", diffOptions.tolerance, "exit 1 when the metric exceeds T")
-            ->type_name("T");
-        diff->add_option("--metric", diffOptions.metric,
-                         "the metric --tolerance bounds: rmse, relmse (default) or maxabs")
-            ->type_name("M");
-        diff->add_option("--out", diffOptions.errorImage,
-                         "write the per-pixel absolute error in false colour (black, red, yellow, "
-                         "white up to the largest error)")
-            ->type_name("ERROR.png");
-
-        ConvertOptions convertOptions;
-        CLI::App *convert = app.add_subcommand(
-            "convert", "Writes IN (EXR, PFM, HDR, PNG, JPEG) as OUT, in the format of OUT's "
-                       "extension: .exr, .pfm, .hdr (linear floats) or .png (8 bits).");
-        configureCommandLine(*convert);
-        convert->add_option("files", convertOptions.files, "the image and the file to write")
-            ->type_name("IN OUT")
-            ->expected(2)
-            ->required();
-        convert
-            ->add_option("--layer", convertOptions.layer,
-                         "an AOV layer of an EXR (default: the beauty)")
-            ->type_name("NAME");
-        convert->add_option("--exposure", convertOptions.exposure, "scale the values by 2^EV")
-            ->type_name("EV");
-        convert
-            ->add_option("--encoding", convertOptions.encoding,
-                         "how 8-bit files (PNG, JPEG in; PNG out) encode values: srgb (the "
-                         "default, as for display) or linear (data such as normal maps)")
-            ->type_name("srgb|linear");
-
-        InfoOptions infoOptions;
-        CLI::App *info = app.add_subcommand(
-            "info", "Prints one `key value` per line: file, width, height, layers (EXR; `(beauty)` "
-                    "is the R, G, B layer), then for each layer (or the one named) its statistics, "
-                    "keyed by the layer's name and a dot (none for the beauty): channels, min, max "
-                    "and mean (per channel, over finite values; 8-bit files: the stored values in "
-                    "[0, 1]), nan and inf (counts of values).");
-        configureCommandLine(*info);
-        info->add_option("image", infoOptions.file, "the image")->type_name("IMAGE")->required();
-        CLI::Option *infoLayer =
-            info->add_option("--layer", infoOptions.layer, "only this layer")->type_name("NAME");
-        wrapDescriptions(app);
-
-        return runCommandLine(app, argc, argv, [&] {
+    DenoiseOptions denoiseOptions;
+    DiffOptions diffOptions;
+    ConvertOptions convertOptions;
+    InfoOptions infoOptions;
+    CLI::App *denoise = nullptr, *diff = nullptr, *convert = nullptr, *info = nullptr;
+    CLI::Option *infoLayer = nullptr;
+    return runCommandLine(
+        argc, argv, "nori-imgtool", "Operations on rendered images.",
+        [&](CLI::App &app) {
+            app.require_subcommand(1);
+            denoise = app.add_subcommand(
+                "denoise",
+                "Denoises the beauty of IN.exr, a render with the layers albedo, normal, "
+                "depth and variance (nori --denoise, or nori --aovs "
+                "albedo,normal,depth,variance), and writes OUT.exr and OUT.png.");
+            denoise->add_option("input", denoiseOptions.input, "the render")
+                ->type_name("IN.exr")
+                ->required();
+            denoise
+                ->add_option("-o,--output", denoiseOptions.output,
+                             "OUT (default: IN_denoised beside IN); IN is left as it is")
+                ->type_name("OUT");
+            denoise
+                ->add_option("-t,--threads", denoiseOptions.threads, "threads (default: all cores)")
+                ->type_name("N");
+            diff = app.add_subcommand(
+                "diff",
+                "Compares IMAGE with REFERENCE (EXR, PFM, HDR, PNG, JPEG; of one size) and "
+                "prints one `key value` per line: rmse, relmse (Σ(a−b)²/(b²+0.01), per "
+                "channel), maxabs, psnr (dB, the peak being REFERENCE's largest value or 1), "
+                "pixels, differing (pixels not equal).");
+            diff->add_option("files", diffOptions.files, "the render and the reference")
+                ->type_name("IMAGE REFERENCE")
+                ->expected(2)
+                ->required();
+            diff->add_option("--layer", diffOptions.layer,
+                             "compare an AOV layer of two EXRs (default: the beauty)")
+                ->type_name("NAME");
+            diff->add_option(
+                    "--crop", diffOptions.crop,
+                    "compare only the W×H pixels from column X, row Y (a region of interest)")
+                ->type_name("X,Y,W,H");
+            diff->add_option("--tolerance", diffOptions.tolerance,
+                             "exit 1 when the metric exceeds T")
+                ->type_name("T");
+            diff->add_option("--metric", diffOptions.metric,
+                             "the metric --tolerance bounds: rmse, relmse (default) or maxabs")
+                ->type_name("M");
+            diff->add_option(
+                    "--out", diffOptions.errorImage,
+                    "write the per-pixel absolute error in false colour (black, red, yellow, "
+                    "white up to the largest error)")
+                ->type_name("ERROR.png");
+            convert = app.add_subcommand(
+                "convert", "Writes IN (EXR, PFM, HDR, PNG, JPEG) as OUT, in the format of OUT's "
+                           "extension: .exr, .pfm, .hdr (linear floats) or .png (8 bits).");
+            convert->add_option("files", convertOptions.files, "the image and the file to write")
+                ->type_name("IN OUT")
+                ->expected(2)
+                ->required();
+            convert
+                ->add_option("--layer", convertOptions.layer,
+                             "an AOV layer of an EXR (default: the beauty)")
+                ->type_name("NAME");
+            convert->add_option("--exposure", convertOptions.exposure, "scale the values by 2^EV")
+                ->type_name("EV");
+            convert
+                ->add_option("--encoding", convertOptions.encoding,
+                             "how 8-bit files (PNG, JPEG in; PNG out) encode values: srgb (the "
+                             "default, as for display) or linear (data such as normal maps)")
+                ->type_name("srgb|linear");
+            info = app.add_subcommand(
+                "info",
+                "Prints one `key value` per line: file, width, height, layers (EXR; `(beauty)` "
+                "is the R, G, B layer), then for each layer (or the one named) its statistics, "
+                "keyed by the layer's name and a dot (none for the beauty): channels, min, max "
+                "and mean (per channel, over finite values; 8-bit files: the stored values in "
+                "[0, 1]), nan and inf (counts of values).");
+            info->add_option("image", infoOptions.file, "the image")
+                ->type_name("IMAGE")
+                ->required();
+            infoLayer = info->add_option("--layer", infoOptions.layer, "only this layer")
+                            ->type_name("NAME");
+        },
+        [&](const CLI::App &) {
             if (denoise->parsed())
                 return denoiseCommand(denoiseOptions);
             if (diff->parsed())
@@ -370,5 +370,4 @@ int main(int argc, char **argv) {
                 return convertCommand(convertOptions);
             return infoCommand(infoOptions, infoLayer->count() > 0);
         });
-    });
 }

@@ -143,8 +143,6 @@ std::vector<std::string> attachPreviewPorts(int argc, char **argv) {
 
 /// The options of `nori` and of `nori merge`, bound to `options` and `texts`.
 void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
-    configureCommandLine(app);
-    app.description(kDescription);
     app.footer(kFooter);
     app.add_option("file", options.sceneFile, "the scene or test file (.xml)");
     app.add_option("-D", texts.defines,
@@ -226,7 +224,6 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
     CLI::App *merge = app.add_subcommand(
         "merge", "merge the parts of a split render (nori scene.xml --part K/N) into OUT.exr "
                  "and OUT.png");
-    configureCommandLine(*merge);
     merge->footer("");
     merge->add_option("parts", options.parts, "the parts' EXR files")->type_name("PART.exr");
     merge->add_option("-o,--output", options.output, "write OUT.exr and OUT.png")->type_name("OUT");
@@ -238,7 +235,6 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
     merge->fallthrough();
     merge->callback([&options] { options.merge = true; });
     app.add_flag("--allow-missing", options.allowMissing, "(nori merge's)")->group("");
-    wrapDescriptions(app);
 }
 
 /// Checks and converts the options given as text; throws NoriException naming the
@@ -654,19 +650,17 @@ int run(Options &options) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram([&] {
-        CLI::App app("", "nori");
-        Options options;
-        OptionTexts texts;
-        defineCommandLine(app, options, texts);
-        std::vector<std::string> arguments = attachPreviewPorts(argc, argv);
-        std::vector<char *> pointers;
-        for (std::string &argument : arguments)
-            pointers.push_back(argument.data());
-        return runCommandLine(app, static_cast<int>(pointers.size()), pointers.data(), [&] {
+    Options options;
+    OptionTexts texts;
+    std::vector<std::string> arguments = attachPreviewPorts(argc, argv);
+    std::vector<char *> pointers;
+    for (std::string &argument : arguments)
+        pointers.push_back(argument.data());
+    return runCommandLine(
+        static_cast<int>(pointers.size()), pointers.data(), "nori", kDescription,
+        [&](CLI::App &app) { defineCommandLine(app, options, texts); },
+        [&](const CLI::App &app) {
             checkOptions(app, options, texts);
             return run(options);
         });
-    });
 }

@@ -2,7 +2,6 @@
 // the observed and expected histograms and their difference, so a student can see where
 // a sampler goes wrong.
 #include "app/cli.h"
-#include "app/program.h"
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/parser.h>
@@ -146,13 +145,11 @@ int run(Arguments &arguments) {
 } // namespace
 
 int main(int argc, char **argv) {
-    // CLI11 throws when an option is declared wrongly: that too is reported, not fatal.
-    return runProgram(
-        [&] {
-            CLI::App app(kDescription, "warptest");
-            configureCommandLine(app);
+    Arguments arguments;
+    return runCommandLine(
+        argc, argv, "warptest", kDescription,
+        [&](CLI::App &app) {
             app.footer(kFooter);
-            Arguments arguments;
             app.add_option("what", arguments.positional, "what to test, and its XML")
                 ->type_name("WHAT [XML]");
             app.add_option("--param", arguments.parameter,
@@ -180,9 +177,6 @@ int main(int argc, char **argv) {
             app.add_option("--out", arguments.outDir, "folder for the picture (default .)")
                 ->type_name("DIR");
             app.add_flag("--list", arguments.list, "list the warps");
-            wrapDescriptions(app);
-            return runCommandLine(
-                app, argc, argv, [&] { return run(arguments); }, 2);
         },
-        2);
+        [&](const CLI::App &) { return run(arguments); }, 2);
 }
