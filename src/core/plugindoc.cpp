@@ -186,7 +186,7 @@ PluginDoc parsePluginDoc(const std::string &comment) {
             for (const std::string &line : paragraph)
                 names += " " + trim(line);
             names = names.substr(names.find(':') + 1);
-            for (std::string alias : tokenize(names, ", ."))
+            for (const std::string &alias : tokenize(names, ", ."))
                 doc.aliases.push_back(alias);
             inParameters = false;
         } else if (head.rfind("Exempt from the sampling test:", 0) == 0) {
