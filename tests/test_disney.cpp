@@ -92,12 +92,12 @@ struct Reference {
     static double mix(double a, double b, double t) { return a * (1 - t) + b * t; }
     static double GTR1(double NdotH, double a) {
         if (a >= 1)
-            return 1 / M_PI;
+            return 1 / kPiDouble;
         const double a2 = a * a, t = 1 + (a2 - 1) * NdotH * NdotH;
-        return (a2 - 1) / (M_PI * std::log(a2) * t);
+        return (a2 - 1) / (kPiDouble * std::log(a2) * t);
     }
     static double GTR2_aniso(double NdotH, double HdotX, double HdotY, double ax, double ay) {
-        return 1 / (M_PI * ax * ay * sqr(sqr(HdotX / ax) + sqr(HdotY / ay) + NdotH * NdotH));
+        return 1 / (kPiDouble * ax * ay * sqr(sqr(HdotX / ax) + sqr(HdotY / ay) + NdotH * NdotH));
     }
     static double smithG_GGX(double NdotV, double alphaG) {
         const double a = alphaG * alphaG, b = NdotV * NdotV;
@@ -140,7 +140,7 @@ struct Reference {
             const double Cspec0 =
                 mix(specular * .08 * mix(1, Ctint, specularTint), Cdlin, metallic);
             const double Csheen = mix(1, Ctint, sheenTint);
-            out[0][c] = (1 / M_PI) * mix(Fd, ss, subsurface) * Cdlin * (1 - metallic);
+            out[0][c] = (1 / kPiDouble) * mix(Fd, ss, subsurface) * Cdlin * (1 - metallic);
             out[1][c] = FH * sheen * Csheen * (1 - metallic);
             out[2][c] = Gs * mix(Cspec0, 1, FH) * Ds;
             out[3][c] = .25 * clearcoat * Gr * Fr * Dr;
@@ -283,7 +283,7 @@ double hemisphereIntegral(const std::function<double(const Eigen::Vector3d &)> &
                                      cosTheta)) *
                    cosTheta;
         },
-        0.0, 0.0, 1.0, 2.0 * M_PI, 1e-7, 12);
+        0.0, 0.0, 1.0, 2.0 * kPiDouble, 1e-7, 12);
 }
 
 /// Every combination of the listed parameters at 0 and 1, on top of `base`.

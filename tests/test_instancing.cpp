@@ -119,8 +119,8 @@ TEST_CASE("Instances hit exactly like the same meshes transformed and loaded sep
     const auto [separateXml, instancedXml] = patchScenes(60, 17);
     auto separate = loadScene(separateXml, dir.path().string());
     auto instanced = loadScene(instancedXml, dir.path().string());
-    REQUIRE(instanced->getAccel().instanceCount() == 60);
-    REQUIRE(instanced->getAccel().statistics().primitives == 0);
+    REQUIRE(instanced->getAccel()->instanceCount() == 60);
+    REQUIRE(instanced->getAccel()->statistics().primitives == 0);
 
     PCG32 random(5, 8);
     int both = 0, disagreements = 0, shadowMismatches = 0, fieldMismatches = 0;
@@ -226,7 +226,7 @@ TEST_CASE("Normals of instances under non-uniform scale and rotation are the ana
             <scale value="2, 0.5, 1"/><rotate axis="1, 2, 3" angle="40"/><translate value="0.5, -0.3, 0.2"/>
         </transform></mesh></scene>)");
     const Eigen::Matrix3d linear =
-        Eigen::AngleAxisd(40.0 * M_PI / 180.0, Eigen::Vector3d(1, 2, 3).normalized())
+        Eigen::AngleAxisd(40.0 * kPiDouble / 180.0, Eigen::Vector3d(1, 2, 3).normalized())
             .toRotationMatrix() *
         Eigen::Vector3d(2.0, 0.5, 1.0).asDiagonal();
     const Eigen::Vector3d translation(0.5, -0.3, 0.2);
@@ -298,7 +298,7 @@ TEST_CASE("Nested groups place their instances through every level", "[instancin
         <mesh type="instance"><ref id="quad"/><transform name="toWorld"><translate value="0,0,-5"/></transform></mesh>
         <mesh type="instance"><ref id="quad"/><transform name="toWorld"><rotate axis="0,0,1" angle="90"/><translate value="10,0,0"/></transform></mesh>
     </scene>)");
-    CHECK(scene->getAccel().instanceDepth() == 3);
+    CHECK(scene->getAccel()->instanceDepth() == 3);
     std::vector<Point3f> centres;
     for (float x : {0.0f, 1.0f})
         for (float y : {0.0f, 2.0f}) {
@@ -358,7 +358,7 @@ TEST_CASE("A course-style tmesh file: copies of their parent, with their own BSD
     CHECK(its.uv.x() == Approx(0.525f).margin(1e-4)); // the parent's uvs: (x + 1)/2
     REQUIRE(hitAbove(0, 3, its));
     CHECK_FALSE(its.shape->getBSDF()->isDiffuse()); // the copy's own mirror
-    CHECK(scene->getAccel().instanceCount() == 3);
+    CHECK(scene->getAccel()->instanceCount() == 3);
 
     // Visible by default: the parent renders as well as its copy.
     auto visible = loadScene(R"(<scene><integrator type="normals"/><camera type="perspective"/>
@@ -425,7 +425,7 @@ TEST_CASE("An instance costs at most 128 bytes in the acceleration structure", "
 
     for (const std::string *text : {&xml, &tmeshXml}) {
         auto scene = loadScene(*text);
-        const Accel &accel = scene->getAccel();
+        const Accel &accel = *scene->getAccel();
         REQUIRE(accel.instanceCount() == count);
         const double perInstance = static_cast<double>(accel.memoryBytes()) / count;
         INFO(perInstance << " bytes per instance, " << accel.instanceStatistics().nodes
@@ -506,9 +506,9 @@ TEST_CASE("The meadow example: what nori-make-meadow writes, nested as flat", "[
         std::dynamic_pointer_cast<Scene>(loadFromXML((meadowDir / "meadow_flat.xml").string()));
     REQUIRE(nested);
     REQUIRE(flat);
-    CHECK(nested->getAccel().instanceCount() == 64);
-    CHECK(nested->getAccel().instanceDepth() == 3);
-    CHECK(flat->getAccel().instanceCount() == 102400);
+    CHECK(nested->getAccel()->instanceCount() == 64);
+    CHECK(nested->getAccel()->instanceDepth() == 3);
+    CHECK(flat->getAccel()->instanceCount() == 102400);
 
     // Rays from the camera's height down into the grass, over the whole field.
     PCG32 random(12, 34);

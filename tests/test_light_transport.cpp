@@ -159,7 +159,7 @@ TEST_CASE("ttest: a deterministic estimate passes against a reference rounded as
           "[integrator][ttest]") {
     // A 1x1 camera with a fov of 1e-9 degrees sees one point; a point light makes every
     // sample the same value, exactly (a/π)·I·cos θ/d². Staff files give it to 4 digits.
-    const double exact = 0.6 / M_PI * 10.0 * (2.0 / std::sqrt(4.25)) / 4.25;
+    const double exact = 0.6 / kPiDouble * 10.0 * (2.0 / std::sqrt(4.25)) / 4.25;
     const double rounded = std::round(exact * 1e4) / 1e4;
     REQUIRE(rounded != exact);
     FloorDir dir;
@@ -179,7 +179,7 @@ TEST_CASE("ttest: a deterministic estimate passes against a reference rounded as
 TEST_CASE("A point light over a plane follows the inverse-square law", "[integrator][ttest]") {
     // L = (a/π) · I cos θ / d², with I = 10, a = 0.6, the light at (0.5, 2, 0) and the
     // point seen at the origin: d² = 4.25, cos θ = 2/√4.25.
-    const double reference = 0.6 / M_PI * 10.0 * (2.0 / std::sqrt(4.25)) / 4.25;
+    const double reference = 0.6 / kPiDouble * 10.0 * (2.0 / std::sqrt(4.25)) / 4.25;
     FloorDir dir;
     const std::string scene = pinpointCamera("3, 1, 2", "0, 0, 0") + kFloor + R"(
         <emitter type="point"><point name="position" value="0.5, 2, 0"/>
@@ -208,7 +208,7 @@ TEST_CASE("A polygonal area light over a plane matches Lambert's formula", "[int
     // and γᵢ the unit normal of the plane through the point and that edge.
     const double radiance = 3.0, albedo = 0.6;
     const double irradiance = lambertIrradiance(quad, radiance);
-    const double reference = albedo / M_PI * irradiance;
+    const double reference = albedo / kPiDouble * irradiance;
     const std::string scene = pinpointCamera("2, 1, 3", "0, 0, 0") + kFloor + R"(
         <mesh type="obj"><string name="filename" value="light.obj"/>
             <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
@@ -235,9 +235,9 @@ TEST_CASE("Several lights of very unequal power: Lambert's formula per light, su
     dir.write("dim.obj", objQuad(dim));
     const double albedo = 0.6, brightLe = 40.0, dimLe = 0.3;
     const double areaLights =
-        albedo / M_PI * (lambertIrradiance(bright, brightLe) + lambertIrradiance(dim, dimLe));
+        albedo / kPiDouble * (lambertIrradiance(bright, brightLe) + lambertIrradiance(dim, dimLe));
     // A point light of intensity 0.2 at (−0.5, 1, 0.5): E = I cos θ / d².
-    const double pointLight = albedo / M_PI * 0.2 * (1.0 / std::sqrt(1.5)) / 1.5;
+    const double pointLight = albedo / kPiDouble * 0.2 * (1.0 / std::sqrt(1.5)) / 1.5;
     const std::string lights = R"(
         <mesh type="obj"><string name="filename" value="bright.obj"/>
             <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
@@ -261,7 +261,7 @@ TEST_CASE("Several lights of very unequal power: Lambert's formula per light, su
                     100000));
     }
     // Negative control: the answer without the dim light is rejected.
-    const double withoutDim = albedo / M_PI * lambertIrradiance(bright, brightLe);
+    const double withoutDim = albedo / kPiDouble * lambertIrradiance(bright, brightLe);
     CHECK_FALSE(tTest("<integrator type=\"path_mis\"/>", camera + kFloor + lights, withoutDim,
                       dir.folder(), 100000));
 }
@@ -297,7 +297,7 @@ TEST_CASE("A spherical light over a plane (cone sampling) matches its closed for
     // A sphere of radius r and radiance Le straight above the point, centre at height h,
     // gives irradiance E = π Le (r/h)² (the cap's projected solid angle, sin²α).
     const double r = 0.4, h = 1.5, radiance = 2.0, albedo = 0.6;
-    const double reference = albedo / M_PI * M_PI * radiance * (r / h) * (r / h);
+    const double reference = albedo / kPiDouble * kPiDouble * radiance * (r / h) * (r / h);
     FloorDir dir;
     const std::string scene = pinpointCamera("3, 1, 2", "0, 0, 0") + kFloor + R"(
         <mesh type="sphere"><point name="center" value="0, 1.5, 0"/><float name="radius" value="0.4"/>
@@ -355,7 +355,7 @@ TEST_CASE("Stratified and Sobol' samples keep the integrators unbiased", "[integ
     const std::vector<Point3f> quad = {
         {-0.2f, 1.5f, -0.4f}, {0.8f, 1.5f, -0.4f}, {0.8f, 1.5f, 0.3f}, {-0.2f, 1.5f, 0.3f}};
     dir.write("light.obj", objQuad(quad));
-    const double reference = 0.6 / M_PI * lambertIrradiance(quad, 3.0);
+    const double reference = 0.6 / kPiDouble * lambertIrradiance(quad, 3.0);
     for (const std::string sampler : {"stratified", "sobol", "independent"})
         for (const std::string integrator : {"direct_ems", "direct_mis", "path_mis", "path_mats"}) {
             CAPTURE(sampler, integrator);

@@ -38,7 +38,7 @@ double projectedArea(const std::function<double(const Vector3f &)> &D) {
         const double weight = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
         sum += weight * D(direction(x, 0.0)) * x;
     }
-    return 2.0 * M_PI * sum * h / 3.0;
+    return 2.0 * kPiDouble * sum * h / 3.0;
 }
 
 /// ∫ D(m) cos θm dωm over the hemisphere for any D, by adaptive Simpson in (cos θ, φ).
@@ -47,7 +47,7 @@ double projectedArea2D(const MicrofacetDistribution &distribution) {
         [&](double cosTheta, double phi) {
             return cosTheta * static_cast<double>(distribution.D(direction(cosTheta, phi)));
         },
-        0.0, 0.0, 1.0, 2.0 * M_PI, 1e-8, 16);
+        0.0, 0.0, 1.0, 2.0 * kPiDouble, 1e-8, 16);
 }
 
 /// cos θo / ∫ ⟨ωo, m⟩⁺ D(m) dωm: Smith's G1 from its definition (ωo at azimuth phiO).
@@ -59,7 +59,7 @@ double smithG1FromDefinition(const MicrofacetDistribution &distribution, double 
             const Vector3f m = direction(cosTheta, phi);
             return std::max(0.0f, wo.dot(m)) * static_cast<double>(distribution.D(m));
         },
-        0.0, 0.0, 1.0, 2.0 * M_PI, 1e-9, 14);
+        0.0, 0.0, 1.0, 2.0 * kPiDouble, 1e-9, 14);
     return std::cos(thetaO) / integral;
 }
 
@@ -87,7 +87,7 @@ TEST_CASE("Smith G1 matches its definition by projected area", "[microfacet]") {
         for (float alpha : {0.1f, 0.3f, 0.7f})
             for (double degrees : {10.0, 45.0, 75.0, 85.0}) {
                 const MicrofacetDistribution distribution(type, alpha);
-                const double theta = degrees * M_PI / 180.0;
+                const double theta = degrees * kPiDouble / 180.0;
                 const Vector3f wo = direction(std::cos(theta), 0.0);
                 const double reference = smithG1FromDefinition(distribution, theta);
                 INFO((type == Type::GGX ? "GGX" : "Beckmann")
@@ -96,7 +96,7 @@ TEST_CASE("Smith G1 matches its definition by projected area", "[microfacet]") {
                       Approx(reference).margin(type == Type::GGX ? 1e-4 : 5e-3));
             }
     // Negative control: the G1 of a roughness 20% off is told apart at grazing angles.
-    const double theta = 80.0 * M_PI / 180.0;
+    const double theta = 80.0 * kPiDouble / 180.0;
     const MicrofacetDistribution wrong(Type::GGX, 0.36f);
     CHECK(
         wrong.G1(direction(std::cos(theta), 0.0), Vector3f(0, 0, 1)) !=
@@ -111,8 +111,8 @@ TEST_CASE("Anisotropic D integrates to 1 and its G1 matches the definition", "[m
         INFO((type == Type::GGX ? "GGX" : "Beckmann") << " alpha 0.15 x 0.6");
         CHECK(projectedArea2D(distribution) == Approx(1.0).margin(2e-3));
         for (double degrees : {30.0, 70.0, 85.0})
-            for (double phi : {0.0, 0.6, 1.2, M_PI / 2}) {
-                const double theta = degrees * M_PI / 180.0;
+            for (double phi : {0.0, 0.6, 1.2, kPiDouble / 2}) {
+                const double theta = degrees * kPiDouble / 180.0;
                 INFO("wo at " << degrees << " degrees, azimuth " << phi);
                 CHECK(distribution.G1(direction(std::cos(theta), phi), Vector3f(0, 0, 1)) ==
                       Approx(smithG1FromDefinition(distribution, theta, phi))
@@ -126,7 +126,7 @@ TEST_CASE("Anisotropic D integrates to 1 and its G1 matches the definition", "[m
     CHECK(nearlyIsotropic.D(m) == Approx(isotropic.D(m)).epsilon(1e-5));
     // Negative control: swapping the axes changes G1 where the azimuth is not symmetric.
     const MicrofacetDistribution swapped(Type::GGX, 0.6f, 0.15f);
-    const double theta = 80.0 * M_PI / 180.0;
+    const double theta = 80.0 * kPiDouble / 180.0;
     CHECK(swapped.G1(direction(std::cos(theta), 0.3), Vector3f(0, 0, 1)) !=
           Approx(smithG1FromDefinition(MicrofacetDistribution(Type::GGX, 0.15f, 0.6f), theta, 0.3))
               .margin(1e-2));

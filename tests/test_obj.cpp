@@ -33,8 +33,8 @@ TEST_CASE("OBJ: a triangle without normals or uvs", "[obj]") {
     TempDir dir;
     auto mesh = loadObj(dir, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     REQUIRE(mesh->getPrimitiveCount() == 1);
-    CHECK(mesh->getVertexNormals().empty());
-    CHECK(mesh->getVertexTexCoords().empty());
+    CHECK(mesh->normals().empty());
+    CHECK(mesh->texCoords().empty());
     CHECK(mesh->surfaceArea(0) == Approx(0.5f));
 
     Intersection its;
@@ -77,7 +77,7 @@ TEST_CASE("OBJ: quads and convex polygons become fans; corners are shared", "[ob
     TempDir dir;
     auto quad = loadObj(dir, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
     CHECK(quad->getPrimitiveCount() == 2);
-    CHECK(quad->getVertexPositions().size() == 4);
+    CHECK(quad->positions().size() == 4);
     CHECK(quad->surfaceArea(0) + quad->surfaceArea(1) == Approx(1.0f));
 
     auto hexagon = loadObj(dir, "v 2 0 0\nv 1 1.7 0\nv -1 1.7 0\nv -2 0 0\nv -1 -1.7 0\n"
@@ -92,14 +92,14 @@ TEST_CASE("OBJ: negative indices, v/vt/vn and v//vn forms", "[obj]") {
                              "vn 0 0 2\n"
                              "f -3/-3/-1 -2/-2/-1 -1/-1/-1\n");
     REQUIRE(mesh->getPrimitiveCount() == 1);
-    REQUIRE(mesh->getVertexNormals().size() == 3);
-    CHECK(mesh->getVertexNormals()[0].isApprox(Normal3f(0, 0, 1))); // normalised
-    REQUIRE(mesh->getVertexTexCoords().size() == 3);
-    CHECK(mesh->getVertexTexCoords()[1].isApprox(Point2f(1, 0)));
+    REQUIRE(mesh->normals().size() == 3);
+    CHECK(mesh->normals()[0].isApprox(Normal3f(0, 0, 1))); // normalised
+    REQUIRE(mesh->texCoords().size() == 3);
+    CHECK(mesh->texCoords()[1].isApprox(Point2f(1, 0)));
 
     auto normalsOnly = loadObj(dir, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n");
-    CHECK(normalsOnly->getVertexNormals().size() == 3);
-    CHECK(normalsOnly->getVertexTexCoords().empty());
+    CHECK(normalsOnly->normals().size() == 3);
+    CHECK(normalsOnly->texCoords().empty());
 }
 
 TEST_CASE("OBJ: toWorld transforms positions and normals", "[obj]") {
@@ -113,8 +113,8 @@ TEST_CASE("OBJ: toWorld transforms positions and normals", "[obj]") {
                                                                     dir.path().string()));
     REQUIRE(scene);
     auto mesh = std::dynamic_pointer_cast<Mesh>(scene->getShapes().at(0));
-    CHECK(mesh->getVertexPositions()[2].isApprox(Point3f(0, 0, 6), 1e-6f));
-    CHECK(mesh->getVertexNormals()[0].isApprox(Normal3f(0, -1, 0), 1e-6f));
+    CHECK(mesh->positions()[2].isApprox(Point3f(0, 0, 6), 1e-6f));
+    CHECK(mesh->normals()[0].isApprox(Normal3f(0, -1, 0), 1e-6f));
 }
 
 TEST_CASE("OBJ: malformed lines are errors with their line number", "[obj]") {

@@ -367,7 +367,7 @@ TEST_CASE("The realistic camera frames the scene as a pinhole of its field of vi
     const double focus = 1000.0;
     auto realistic = makeRealistic(R"(<float name="focusDistance" value="1000"/>)");
     const double imageDistance = focusedDoubleGauss(focus).cardinalPoints().rearPrincipalZ;
-    const double fov = 2.0 * std::atan(0.5 * kFilmWidth / imageDistance) * 180.0 / M_PI;
+    const double fov = 2.0 * std::atan(0.5 * kFilmWidth / imageDistance) * 180.0 / kPiDouble;
     auto pinhole = std::dynamic_pointer_cast<Camera>(loadFromXMLString(fmt::format(
         R"(<camera type="perspective"><integer name="width" value="600"/><integer name="height" value="400"/>
             <float name="fov" value="{}"/></camera>)",
@@ -391,7 +391,7 @@ TEST_CASE("The realistic camera frames the scene as a pinhole of its field of vi
         CHECK(lensRay.d.y() * d.y() >= 0.0f);
         if (tanPinhole > 0.05)
             worst = std::max(worst, std::abs(tanLens / tanPinhole - 1.0));
-        CHECK(lensRay.d.dot(d) > std::cos(0.01 * fov * M_PI / 180.0));
+        CHECK(lensRay.d.dot(d) > std::cos(0.01 * fov * kPiDouble / 180.0));
     }
     INFO("largest distortion " << 100.0 * worst << "%");
     CHECK(worst < 0.01);

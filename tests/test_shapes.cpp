@@ -27,11 +27,11 @@ TEST_CASE("Sphere uv: u = 0.5 + atan2(y, x)/2π, v = 0.5 + asin(z)/π", "[shape]
         REQUIRE(sphere->rayIntersect(0, ray, its.t, coords));
         sphere->setHitInformation(0, ray, coords, its);
         INFO("n = " << n.transpose());
-        CHECK(its.uv.x() == Approx(0.5 + std::atan2(n.y(), n.x()) / (2 * M_PI)).margin(1e-5));
-        CHECK(its.uv.y() == Approx(0.5 + std::asin(n.z()) / M_PI).margin(1e-4));
+        CHECK(its.uv.x() == Approx(0.5 + std::atan2(n.y(), n.x()) / (2 * kPiDouble)).margin(1e-5));
+        CHECK(its.uv.y() == Approx(0.5 + std::asin(n.z()) / kPiDouble).margin(1e-4));
         // dp/du and dp/dv by central differences of p(u, v).
         auto position = [&](double u, double v) -> Eigen::Vector3d {
-            const double phi = 2 * M_PI * (u - 0.5), beta = M_PI * (v - 0.5);
+            const double phi = 2 * kPiDouble * (u - 0.5), beta = kPiDouble * (v - 0.5);
             return Eigen::Vector3d(std::cos(beta) * std::cos(phi), std::cos(beta) * std::sin(phi),
                                    std::sin(beta)) *
                    radius;
@@ -39,8 +39,8 @@ TEST_CASE("Sphere uv: u = 0.5 + atan2(y, x)/2π, v = 0.5 + asin(z)/π", "[shape]
         const double h = 1e-4, u = its.uv.x(), v = its.uv.y();
         const Eigen::Vector3d dpdu = (position(u + h, v) - position(u - h, v)) / (2 * h);
         const Eigen::Vector3d dpdv = (position(u, v + h) - position(u, v - h)) / (2 * h);
-        CHECK((its.dpdu.cast<double>() - dpdu).norm() < 1e-3 * radius * 2 * M_PI);
-        CHECK((its.dpdv.cast<double>() - dpdv).norm() < 1e-3 * radius * M_PI);
+        CHECK((its.dpdu.cast<double>() - dpdu).norm() < 1e-3 * radius * 2 * kPiDouble);
+        CHECK((its.dpdv.cast<double>() - dpdv).norm() < 1e-3 * radius * kPiDouble);
         // The frame is right-handed with its normal outward and s along dp/du.
         CHECK(its.geoFrame.n.dot(n) == Approx(1.0f).margin(1e-5));
         if (std::abs(n.z()) < 0.99f)

@@ -81,7 +81,7 @@ TEST_CASE("Adaptive Simpson integrates smooth and kinked functions", "[statistic
     CHECK(adaptiveSimpson2D([](double x, double y) { return x * y; }, 0, 0, 1, 1) ==
           Approx(0.25).epsilon(1e-10));
     CHECK(adaptiveSimpson2D([](double x, double y) { return std::sin(x) * std::cos(y); }, 0, 0,
-                            M_PI, M_PI / 2) == Approx(2.0).epsilon(1e-6));
+                            kPiDouble, kPiDouble / 2) == Approx(2.0).epsilon(1e-6));
     // A kink inside the cell (|x − 0.3|) is handled by subdivision.
     CHECK(adaptiveSimpson2D([](double x, double) { return std::abs(x - 0.3); }, 0, 0, 1, 1) ==
           Approx(0.29).epsilon(1e-5));

@@ -131,7 +131,7 @@ void measure(const std::shared_ptr<ShapeGroup> &group, size_t count) {
     scene->activate();
     const double buildSeconds = secondsSince(buildStart);
     const size_t after = heapBytes();
-    const Accel &accel = scene->getAccel();
+    const Accel &accel = *scene->getAccel();
     std::cout << fmt::format(
         "{:>8} instances: build {:.3f} s (creating and adding them {:.3f} s, two-level BVH "
         "{:.3f} s); heap {:.1f} bytes/instance, acceleration structure {:.1f} "

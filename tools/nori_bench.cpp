@@ -59,8 +59,8 @@ size_t writeBumpySphere(size_t requestedTriangles, const std::string &filename) 
     vertex(0.0, 0.0); // north pole: vertex 1
     for (int ring = 1; ring < rings; ++ring)
         for (int column = 0; column < columns; ++column)
-            vertex(M_PI * ring / rings, 2.0 * M_PI * column / columns);
-    vertex(M_PI, 0.0); // south pole
+            vertex(kPiDouble * ring / rings, 2.0 * kPiDouble * column / columns);
+    vertex(kPiDouble, 0.0); // south pole
     const int south = 2 + (rings - 1) * columns;
     auto index = [&](int ring, int column) { return 2 + (ring - 1) * columns + column % columns; };
     size_t triangles = 0;
@@ -164,8 +164,8 @@ public:
             throw NoriException("Embree: cannot create a device");
         m_scene = rtcNewScene(m_device);
         RTCGeometry geometry = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        const auto &positions = mesh.getVertexPositions();
-        const auto &faces = mesh.getFaces();
+        const auto &positions = mesh.positions();
+        const auto &faces = mesh.faces();
         auto *vertices = static_cast<float *>(
             rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                     3 * sizeof(float), positions.size()));

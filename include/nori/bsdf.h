@@ -9,9 +9,6 @@
 
 namespace nori {
 
-/// The measure a density is expressed in.
-enum EMeasure { EUnknownMeasure = 0, ESolidAngle, EDiscrete };
-
 /// A BSDF query. It is also the TextureQuery of its point (uv, p and the footprint), so
 /// textured parameters are looked up with the record itself: m_albedo->eval(bRec).
 struct BSDFQueryRecord : TextureQuery {
@@ -20,7 +17,7 @@ struct BSDFQueryRecord : TextureQuery {
     float eta = 1.0f;                   ///< relative index of refraction of the sampled event
     EMeasure measure = EUnknownMeasure; ///< measure of the sampled or queried density
 
-    explicit BSDFQueryRecord(const Vector3f &wi) : wi(wi) {}
+    BSDFQueryRecord(const Vector3f &wi) : wi(wi) {} // NOLINT: implicit as in Nori 2
     BSDFQueryRecord(const Vector3f &wi, const Vector3f &wo, EMeasure measure)
         : wi(wi), wo(wo), measure(measure) {}
     /// A query at a ray hit: the texture lookups use its uv and footprint.

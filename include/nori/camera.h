@@ -36,6 +36,7 @@ public:
     const Medium *getMedium() const { return m_medium.get(); }
 
     /// Accepts one <rfilter> and one <medium>.
+    using NoriObject::addChild;
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     /// Checks the image size against kMaxImageSide and kMaxImagePixels and creates the
     /// default gaussian filter (Nori's default) when none was given.

@@ -12,7 +12,8 @@ struct Color3f : public Eigen::Array3f {
     using Base = Eigen::Array3f;
 
     Color3f() : Base(Base::Zero()) {}
-    explicit Color3f(float value) : Base(value, value, value) {}
+    /// Grey `value`; implicit, as in Nori 2 (`Color3f c = 0.0f;`, `return 0.0f;`).
+    Color3f(float value) : Base(value, value, value) {} // NOLINT(google-explicit-constructor)
     Color3f(float r, float g, float b) : Base(r, g, b) {}
     template <typename Derived> Color3f(const Eigen::ArrayBase<Derived> &p) : Base(p) {}
     template <typename Derived> Color3f &operator=(const Eigen::ArrayBase<Derived> &p) {
@@ -27,6 +28,8 @@ struct Color3f : public Eigen::Array3f {
     float &b() { return z(); }
     float b() const { return z(); }
 
+    /// Negative components set to zero.
+    Color3f clamp() const { return Color3f(cwiseMax(0.0f)); }
     /// Luminance with the Rec. 709 weights Nori uses.
     float getLuminance() const { return 0.212671f * r() + 0.715160f * g() + 0.072169f * b(); }
     /// True when every component is finite and non-negative.
@@ -48,6 +51,9 @@ struct Color4f : public Eigen::Array4f {
 
     Color4f() : Base(Base::Zero()) {}
     Color4f(const Color3f &c, float w) : Base(c.r() * w, c.g() * w, c.b() * w, w) {}
+    /// A colour of weight 1 (Nori 2).
+    Color4f(const Color3f &c) : Base(c.r(), c.g(), c.b(), 1.0f) {} // NOLINT: implicit as in Nori 2
+    Color4f(float r, float g, float b, float w) : Base(r, g, b, w) {}
     template <typename Derived> Color4f(const Eigen::ArrayBase<Derived> &p) : Base(p) {}
     template <typename Derived> Color4f &operator=(const Eigen::ArrayBase<Derived> &p) {
         this->Base::operator=(p);
@@ -60,6 +66,8 @@ struct Color4f : public Eigen::Array4f {
             return Color3f(0.0f);
         return Color3f(x() / w(), y() / w(), z() / w());
     }
+    /// "[r, g, b, w]", for messages.
+    std::string toString() const;
 };
 
 } // namespace nori

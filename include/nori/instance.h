@@ -25,6 +25,7 @@ public:
 
     explicit Instance(const PropertyList &props);
     /// Takes the shape group (through a <ref>); anything else is an error.
+    using NoriObject::addChild;
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     void activate() override;
     const std::shared_ptr<ShapeGroup> &group() const { return m_group; }
@@ -45,6 +46,7 @@ public:
 
     explicit TMesh(const PropertyList &props);
     /// Takes one <bsdf> (which attaches itself through setBSDF).
+    using NoriObject::addChild;
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     const Transform &toWorld() const { return m_toWorld; }
     const std::shared_ptr<BSDF> &bsdf() const { return m_bsdf; }
@@ -119,6 +121,7 @@ public:
 
     explicit ShapeGroup(const PropertyList &props);
     /// Takes shapes, instances and nested group declarations; refuses area lights.
+    using NoriObject::addChild;
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     /// Builds the group's Accel; an empty group is an error.
     void activate() override;

@@ -52,6 +52,7 @@ public:
     const PhaseFunction *getPhaseFunction() const { return m_phase.get(); }
 
     /// Accepts one <phase>.
+    using NoriObject::addChild;
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     /// Fills the side of a shape it is named for ("interior" or "exterior").
     bool attachTo(NoriObject &parent, const std::string &name) override;

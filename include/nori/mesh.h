@@ -6,6 +6,7 @@
 #include <nori/shape.h>
 #include <nori/transform.h>
 
+#include <mutex>
 #include <vector>
 
 namespace nori {
@@ -36,11 +37,28 @@ public:
     /// normal is the geometric one on the side of the vertex normals.
     ShapeSample sampleSurface(const Point2f &sample) const override;
 
-    const std::vector<Point3f> &getVertexPositions() const { return m_positions; }
-    const std::vector<Normal3f> &getVertexNormals() const { return m_normals; }
-    const std::vector<Point2f> &getVertexTexCoords() const { return m_texCoords; }
-    const std::vector<Vector3i> &getFaces() const { return m_faces; }
+    const std::vector<Point3f> &positions() const { return m_positions; }
+    const std::vector<Normal3f> &normals() const { return m_normals; }
+    const std::vector<Point2f> &texCoords() const { return m_texCoords; }
+    const std::vector<Vector3i> &faces() const { return m_faces; }
     const std::string &getName() const { return m_name; }
+
+    /// Nori 2's accessors, for course code. The matrices hold one column per vertex
+    /// (3 × n positions and normals, 2 × n uvs; 0 columns when absent) and per triangle
+    /// (3 × m vertex indices); they are made from the arrays above on first use.
+    uint32_t getTriangleCount() const { return getPrimitiveCount(); }
+    uint32_t getVertexCount() const { return static_cast<uint32_t>(m_positions.size()); }
+    const MatrixXf &getVertexPositions() const { return nori2Arrays().positions; }
+    const MatrixXf &getVertexNormals() const { return nori2Arrays().normals; }
+    const MatrixXf &getVertexTexCoords() const { return nori2Arrays().texCoords; }
+    const MatrixXu &getIndices() const { return nori2Arrays().indices; }
+    using Shape::getBoundingBox;
+    BoundingBox3f getBoundingBox(uint32_t index) const { return getPrimitiveBoundingBox(index); }
+    Point3f getCentroid(uint32_t index) const { return getPrimitiveCentroid(index); }
+    /// Nori 2's ray–triangle test: on a hit, the barycentrics u, v of vertices 1 and 2
+    /// and the distance t.
+    using Shape::rayIntersect;
+    bool rayIntersect(uint32_t index, const Ray3f &ray, float &u, float &v, float &t) const;
 
     std::string toString() const override;
 
@@ -71,6 +89,15 @@ protected:
     std::vector<Vector3i> m_faces;    ///< vertex indices of each triangle
     std::vector<Vector3f> m_tangents; ///< per-vertex tangents (along dp/du) when there are uvs
     DiscretePDF m_triangleAreas;      ///< for sampling a triangle by area
+
+private:
+    struct Nori2Arrays {
+        MatrixXf positions, normals, texCoords;
+        MatrixXu indices;
+    };
+    const Nori2Arrays &nori2Arrays() const;
+    mutable std::once_flag m_nori2Once;
+    mutable Nori2Arrays m_nori2Arrays;
 };
 
 } // namespace nori

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <vector>
 
 namespace nori {
 
@@ -34,6 +35,9 @@ public:
     /// a child binds to a slot, e.g. a texture named "albedo"), or empty. The default
     /// accepts nothing; a parent throws a NoriException naming what it cannot take.
     virtual void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name);
+    /// Nori 2's addChild, which course plugins override: the default addChild above keeps
+    /// the child alive (owned by this object) and passes it here. The default throws.
+    virtual void addChild(NoriObject *child);
     /// Called on a child when it is attached to its parent.
     virtual void setParent(NoriObject *parent) { (void)parent; }
     /// Offers this object to a parent that takes it without knowing its type: a shape
@@ -56,6 +60,9 @@ public:
     /// The name the plugin was created by ("roughconductor"), set by the factory.
     const std::string &pluginName() const { return m_pluginName; }
     void setPluginName(const std::string &name) { m_pluginName = name; }
+    /// The element's `name=` attribute ("albedo"), as ETH's Nori calls it; empty if none.
+    const std::string &getIdName() const { return m_idName; }
+    void setIdName(const std::string &name) { m_idName = name; }
 
     /// The XML tag of a class type ("bsdf", "rfilter", ...).
     static std::string classTypeName(EClassType type);
@@ -64,6 +71,9 @@ public:
 
 private:
     std::string m_pluginName;
+    std::string m_idName;
+    /// Children handed to Nori 2's addChild(NoriObject *), which takes no ownership.
+    std::vector<std::shared_ptr<NoriObject>> m_rawChildren;
 };
 
 /// Registry from plugin kind and name to constructor (a name is unique within a kind).

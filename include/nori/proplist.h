@@ -6,6 +6,7 @@
 #include <nori/color.h>
 #include <nori/transform.h>
 
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <set>
@@ -76,6 +77,12 @@ public:
 
     /// Whether the property exists; records the name as one the plugin knows.
     bool has(const std::string &name) const;
+    /// The spelling of a parameter that the scene uses: `name`, or one of its other
+    /// spellings (a course's or another renderer's, e.g. "sigma_a" for "sigmaA"), so that
+    /// props.getColor(props.spelling("sigmaA", {"sigma_a"})) reads either. `name` when
+    /// none is given; throws NoriException naming both when two are given.
+    std::string spelling(const std::string &name,
+                         std::initializer_list<const char *> otherSpellings) const;
     /// Whether the property exists, without recording anything (for the parser).
     bool contains(const std::string &name) const { return m_properties.count(name) != 0; }
     /// "file:line:col" of a property, or "" when unknown.

@@ -26,7 +26,15 @@ struct Ray3f {
     }
 
     /// Recomputes the cached reciprocal direction after d changes.
+    /// The same ray with another segment (Nori 2).
+    Ray3f(const Ray3f &ray, float mint, float maxt) : Ray3f(ray.o, ray.d, mint, maxt) {}
     void update() { dRcp = d.cwiseInverse(); }
+    /// The ray pointing the other way, with the same segment.
+    Ray3f reverse() const { return Ray3f(o, -d, mint, maxt); }
+    std::string toString() const {
+        return fmt::format("Ray3f[o={}, d={}, mint={}, maxt={}]", o.toString(), d.toString(), mint,
+                           maxt);
+    }
     Point3f operator()(float t) const { return o + t * d; }
 };
 

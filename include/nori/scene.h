@@ -23,11 +23,15 @@ public:
     Integrator *getIntegrator() { return m_integrator.get(); }
     const Camera *getCamera() const { return m_camera.get(); }
     const Sampler *getSampler() const { return m_sampler.get(); }
+    Sampler *getSampler() { return m_sampler.get(); }
     /// Every shape in the scene itself (not those in shape groups), with invisible ones.
     const std::vector<std::shared_ptr<Shape>> &getShapes() const { return m_contents.shapes(); }
     const BoundingBox3f &getBoundingBox() const { return m_contents.accel().getBoundingBox(); }
-    /// The acceleration structure over shapes and instances.
-    const Accel &getAccel() const { return m_contents.accel(); }
+    /// The triangle meshes among getShapes() (Nori 2's list; spheres and instances are
+    /// not meshes, so course code that looks for lights should use getEmitters()).
+    const std::vector<Mesh *> &getMeshes() const { return m_meshes; }
+    /// The acceleration structure over shapes and instances (a pointer, as in Nori 2).
+    const Accel *getAccel() const { return &m_contents.accel(); }
     /// Every light: area lights of shapes and the scene's own (point) lights.
     const std::vector<std::shared_ptr<Emitter>> &getEmitters() const { return m_emitters; }
 
@@ -58,6 +62,8 @@ public:
     /// pbrt print the same).
     std::string statisticsSummary() const;
 
+    using NoriObject::addChild;
+
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     /// Builds the acceleration structure, adds a default sampler, checks completeness.
     void activate() override;
@@ -67,6 +73,7 @@ public:
 
 private:
     ShapeCollection m_contents;
+    std::vector<Mesh *> m_meshes;
     std::vector<std::shared_ptr<Emitter>> m_emitters;
     std::vector<const Emitter *> m_infiniteEmitters;
     DiscretePDF m_emitterPdf;

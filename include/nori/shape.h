@@ -58,6 +58,8 @@ struct Intersection {
     float dudx = 0.0f, dudy = 0.0f, dvdx = 0.0f, dvdy = 0.0f;
     uint32_t primIndex = 0; ///< index of the primitive within the shape
     const Shape *shape = nullptr;
+    /// The same shape, by Nori 2's name (its.mesh->getBSDF()); any shape, not only meshes.
+    const Shape *mesh = nullptr;
 
     Vector3f toLocal(const Vector3f &d) const { return shFrame.toLocal(d); }
     Vector3f toWorld(const Vector3f &d) const { return shFrame.toWorld(d); }
@@ -134,6 +136,9 @@ public:
     virtual bool isClosed() const { return true; }
     /// The area light on this shape, or nullptr.
     const Emitter *getEmitter() const { return m_emitter.get(); }
+    Emitter *getEmitter() { return m_emitter.get(); }
+    /// Whether the shape is an area light (Nori 2).
+    bool isEmitter() const { return m_emitter != nullptr; }
     std::shared_ptr<Emitter> getEmitterPtr() const { return m_emitter; }
 
     /// The slots that the objects on the surface fill when they attach themselves
@@ -147,6 +152,7 @@ public:
     /// Accepts any number of <mesh type="tmesh"> copies, and every child that attaches
     /// itself to a shape: one <bsdf>, one <emitter> (an area light on the shape), a
     /// <medium> named "interior" and one named "exterior".
+    using NoriObject::addChild;
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     /// Gives a shape without a BSDF the default diffuse one (Nori's behaviour), or the
     /// `null` one when it bounds a medium; warns when a medium boundary is not closed;

@@ -6,9 +6,10 @@
 
 namespace nori {
 
-/// Splits on any of the delimiter characters, dropping empty tokens.
+/// Splits on any of the delimiter characters, dropping empty tokens unless includeEmpty.
 std::vector<std::string> tokenize(const std::string &text,
-                                  const std::string &delimiters = ", \t\r\n");
+                                  const std::string &delimiters = ", \t\r\n",
+                                  bool includeEmpty = false);
 /// Parses the whole string as a float / int; throws NoriException naming `what` otherwise.
 float toFloat(const std::string &text, const std::string &what = "number");
 int toInt(const std::string &text, const std::string &what = "integer");

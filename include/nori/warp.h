@@ -7,13 +7,18 @@
 
 namespace nori {
 
+class Sampler;
+
+/// Every function is defined weak (src/math/warp.cpp): a course's own warp.cpp, dropped
+/// into plugins/, replaces the ones it defines, in every program and plugin, as in Nori 2's
+/// warp assignment; `warptest` then tests the course's versions.
 class Warp {
 public:
     /// The unit vector with cos θ = cosTheta and azimuth φ about +z.
     static Vector3f sphericalDirection(float cosTheta, float phi);
 
     /// Identity on [0,1)²; density 1.
-    static Point2f squareToUniformSquare(const Point2f &sample) { return sample; }
+    static Point2f squareToUniformSquare(const Point2f &sample);
     static float squareToUniformSquarePdf(const Point2f &p);
 
     /// Separable tent on [-1,1]²: density (1 − |x|)(1 − |y|).
@@ -28,6 +33,13 @@ public:
     static Point2f squareToUniformDiskConcentric(const Point2f &sample);
     static float squareToUniformDiskConcentricPdf(const Point2f &p);
 
+    /// Uniform in the triangle (0,0), (1,0), (0,1), as barycentrics (PBR 4th ed. §A.5.5);
+    /// density 2.
+    static Point2f squareToUniformTriangle(const Point2f &sample);
+    static float squareToUniformTrianglePdf(const Point2f &p);
+    /// Nori 2's first warp: a uniform direction on the hemisphere about northPole, drawn by
+    /// rejection from the sampler.
+    static Vector3f sampleUniformHemisphere(Sampler *sampler, const Normal3f &northPole);
     /// Uniform on the unit sphere: z = 1 − 2u (Archimedes); density 1/4π.
     static Vector3f squareToUniformSphere(const Point2f &sample);
     static float squareToUniformSpherePdf(const Vector3f &v);

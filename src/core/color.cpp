@@ -6,6 +6,10 @@ std::string Color3f::toString() const {
     return fmt::format("[{}, {}, {}]", r(), g(), b());
 }
 
+std::string Color4f::toString() const {
+    return fmt::format("[{}, {}, {}, {}]", x(), y(), z(), w());
+}
+
 Color3f Color3f::toSRGB() const {
     Color3f result;
     for (int i = 0; i < 3; ++i) {

@@ -39,6 +39,11 @@ NoriObjectFactory::Observer &observerSlot() {
 
 void NoriObject::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
     (void)name;
+    addChild(child.get());
+    m_rawChildren.push_back(child);
+}
+
+void NoriObject::addChild(NoriObject *child) {
     throw NoriException("{} does not accept {} as a child", withArticle(getClassType()),
                         withArticle(child->getClassType()));
 }

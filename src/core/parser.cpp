@@ -1,5 +1,7 @@
 #include <nori/filesystem.h>
 #include <nori/parser.h>
+
+#include <filesystem/resolver.h>
 #include <nori/strutil.h>
 
 #include <pugixml.hpp>
@@ -469,6 +471,7 @@ private:
         for (const Child &child : frame.children) {
             atLocation(child.location, [&] {
                 try {
+                    child.object->setIdName(child.name);
                     object->addChild(child.object, child.name);
                     child.object->setParent(object.get());
                 } catch (const NoriException &error) {
@@ -635,7 +638,25 @@ private:
 
 } // namespace
 
+namespace {
+/// Puts a scene file's folder first in Nori 2's file resolver while the file is read, so
+/// that course plugins find the files the scene names (getFileResolver()->resolve(...)).
+class ResolverFolder {
+public:
+    explicit ResolverFolder(const std::string &directory) { getFileResolver()->prepend(directory); }
+    ~ResolverFolder() {
+        filesystem::resolver &resolver = *getFileResolver();
+        if (resolver.size() > 0)
+            resolver.erase(resolver.begin());
+    }
+    ResolverFolder(const ResolverFolder &) = delete;
+    ResolverFolder &operator=(const ResolverFolder &) = delete;
+};
+} // namespace
+
 std::shared_ptr<NoriObject> loadFromXML(const std::string &filename, const LoadOptions &options) {
+    const std::string directory = fs::path(filename).parent_path().string();
+    const ResolverFolder folder(directory.empty() ? "." : directory);
     Parser parser(options);
     std::shared_ptr<NoriObject> root = parser.parseFile(filename);
     if (options.unusedDefines)
@@ -645,6 +666,7 @@ std::shared_ptr<NoriObject> loadFromXML(const std::string &filename, const LoadO
 
 std::shared_ptr<NoriObject> loadFromXMLString(const std::string &xml, const std::string &directory,
                                               const LoadOptions &options) {
+    const ResolverFolder folder(directory);
     Parser parser(options);
     std::shared_ptr<NoriObject> root = parser.parseString(xml, directory);
     if (options.unusedDefines)

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace nori {
@@ -225,6 +227,32 @@ bool registerDocComments(const std::vector<std::pair<const char *, const char *>
         return false;
     }
 }
+
+namespace {
+std::set<std::string> &shippedFiles() {
+    static std::set<std::string> files;
+    return files;
+}
+} // namespace
+
+bool registerShippedPluginFiles(const std::vector<const char *> &files) noexcept {
+    try {
+        for (const char *file : files)
+            shippedFiles().insert(std::filesystem::path(file).lexically_normal().string());
+        return true;
+    } catch (...) {
+        return false;
+    }
+}
+
+bool isShippedPlugin(NoriObject::EClassType type, const std::string &name) {
+    const std::string &source = NoriObjectFactory::entry(type, name).sourceFile;
+    return shippedFiles().count(std::filesystem::path(source).lexically_normal().string()) != 0;
+}
+
+const char *const kUndocumentedHint =
+    "undocumented: its file starts with no doc comment, so it has no parameter list and no "
+    "examples to test; docs/nori2.md says how to write one";
 
 std::string docCommentOf(NoriObject::EClassType type, const std::string &name) {
     const auto it = docComments().find(NoriObjectFactory::entry(type, name).sourceFile);

@@ -156,6 +156,24 @@ bool PropertyList::holdsScalar(const std::string &name) const {
                                         std::holds_alternative<float>(it->second.value));
 }
 
+std::string PropertyList::spelling(const std::string &name,
+                                   std::initializer_list<const char *> otherSpellings) const {
+    std::vector<std::string> given;
+    m_queried.insert(name);
+    if (contains(name))
+        given.push_back(name);
+    for (const char *other : otherSpellings) {
+        m_queried.insert(other);
+        if (contains(other))
+            given.push_back(other);
+    }
+    if (given.size() > 1)
+        throw NoriException("'{}' (at {}) and '{}' (at {}) are two spellings of the same "
+                            "parameter: give only one",
+                            given[0], location(given[0]), given[1], location(given[1]));
+    return given.empty() ? name : given.front();
+}
+
 bool PropertyList::has(const std::string &name) const {
     m_queried.insert(name);
     return m_properties.count(name) != 0;

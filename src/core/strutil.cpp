@@ -7,8 +7,19 @@
 
 namespace nori {
 
-std::vector<std::string> tokenize(const std::string &text, const std::string &delimiters) {
+std::vector<std::string> tokenize(const std::string &text, const std::string &delimiters,
+                                  bool includeEmpty) {
     std::vector<std::string> tokens;
+    if (includeEmpty) {
+        std::string::size_type start = 0;
+        while (true) {
+            const std::string::size_type end = text.find_first_of(delimiters, start);
+            tokens.push_back(text.substr(start, end - start));
+            if (end == std::string::npos)
+                return tokens;
+            start = end + 1;
+        }
+    }
     std::string::size_type start = text.find_first_not_of(delimiters);
     while (start != std::string::npos) {
         std::string::size_type end = text.find_first_of(delimiters, start);

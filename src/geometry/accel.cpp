@@ -85,8 +85,8 @@ void Accel::build() {
                     if (!m_isMesh[shapeIndex])
                         continue;
                     const auto *mesh = static_cast<const Mesh *>(m_shapes[shapeIndex]);
-                    const Vector3i &face = mesh->getFaces()[primIndex];
-                    const auto &positions = mesh->getVertexPositions();
+                    const Vector3i &face = mesh->faces()[primIndex];
+                    const auto &positions = mesh->positions();
                     m_packets[packet].setTriangle(lane, positions[face[0]], positions[face[1]],
                                                   positions[face[2]]);
                 }
@@ -335,7 +335,7 @@ bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) co
     shape->setInstancedHitInformation(id.primIndex, localRay, hit.coords, toLocal.inverse(),
                                       toLocal, its);
     if (reportedShape)
-        its.shape = reportedShape;
+        its.shape = its.mesh = reportedShape;
     return true;
 }
 

@@ -28,7 +28,7 @@ public:
     void setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
                            Intersection &its) const override {
         m_parent.setHitInformation(index, ray, hitCoords, its);
-        its.shape = this;
+        its.shape = its.mesh = this;
     }
     float getArea() const override { return m_parent.getArea(); }
     ShapeSample sampleSurface(const Point2f &sample) const override {

@@ -47,7 +47,7 @@ void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hi
     its.pError = gammaBound(7) *
                  Vector3f((b0 * p0).cwiseAbs() + (b1 * p1).cwiseAbs() + (b2 * p2).cwiseAbs());
     its.primIndex = index;
-    its.shape = this;
+    its.shape = its.mesh = this;
 
     // Texture coordinates: the mesh's own, or the barycentric parameterisation.
     Point2f uv0(0.0f, 0.0f), uv1(1.0f, 0.0f), uv2(0.0f, 1.0f);
@@ -286,6 +286,35 @@ std::string Mesh::toString() const {
     return fmt::format("Mesh[name=\"{}\", vertices={}, triangles={}, normals={}, uvs={}]", m_name,
                        m_positions.size(), m_faces.size(), !m_normals.empty(),
                        !m_texCoords.empty());
+}
+
+const Mesh::Nori2Arrays &Mesh::nori2Arrays() const {
+    std::call_once(m_nori2Once, [this] {
+        Nori2Arrays &arrays = m_nori2Arrays;
+        const auto vertices = static_cast<Eigen::Index>(m_positions.size());
+        arrays.positions.resize(3, vertices);
+        for (Eigen::Index i = 0; i < vertices; ++i)
+            arrays.positions.col(i) = m_positions[static_cast<size_t>(i)];
+        arrays.normals.resize(3, static_cast<Eigen::Index>(m_normals.size()));
+        for (Eigen::Index i = 0; i < arrays.normals.cols(); ++i)
+            arrays.normals.col(i) = m_normals[static_cast<size_t>(i)];
+        arrays.texCoords.resize(2, static_cast<Eigen::Index>(m_texCoords.size()));
+        for (Eigen::Index i = 0; i < arrays.texCoords.cols(); ++i)
+            arrays.texCoords.col(i) = m_texCoords[static_cast<size_t>(i)];
+        arrays.indices.resize(3, static_cast<Eigen::Index>(m_faces.size()));
+        for (Eigen::Index i = 0; i < arrays.indices.cols(); ++i)
+            arrays.indices.col(i) = m_faces[static_cast<size_t>(i)].cast<uint32_t>();
+    });
+    return m_nori2Arrays;
+}
+
+bool Mesh::rayIntersect(uint32_t index, const Ray3f &ray, float &u, float &v, float &t) const {
+    Point2f barycentrics;
+    if (!rayIntersect(index, ray, t, barycentrics))
+        return false;
+    u = barycentrics.x();
+    v = barycentrics.y();
+    return true;
 }
 
 } // namespace nori

@@ -25,6 +25,10 @@ float fresnelDielectric(float cosThetaI, float extIOR, float intIOR) {
     return 0.5f * (rs * rs + rp * rp);
 }
 
+float fresnel(float cosThetaI, float extIOR, float intIOR) {
+    return fresnelDielectric(cosThetaI, extIOR, intIOR);
+}
+
 Color3f fresnelConductor(float cosThetaI, const Color3f &eta, const Color3f &k) {
     cosThetaI = std::clamp(std::abs(cosThetaI), 0.0f, 1.0f);
     Color3f result;
@@ -53,6 +57,7 @@ void lookupConductor(const std::string &name, Color3f &eta, Color3f &k) {
     auto it = kMetals.find(name);
     if (it == kMetals.end()) {
         std::vector<std::string> names;
+        names.reserve(kMetals.size());
         for (const auto &metal : kMetals)
             names.push_back(metal.first);
         throw NoriException("unknown metal '{}'{} (known: {})", name, didYouMean(name, names),

@@ -1,5 +1,9 @@
 #include <nori/warp.h>
 
+// Weak definitions: a course's warp.cpp among the plugins defines the same functions
+// strongly, and the linker takes those (see warp.h).
+#define NORI_REPLACEABLE __attribute__((weak))
+
 namespace nori {
 
 namespace {
@@ -16,33 +20,37 @@ float tent1D(float u) {
 
 } // namespace
 
-Vector3f Warp::sphericalDirection(float cosTheta, float phi) {
+NORI_REPLACEABLE Vector3f Warp::sphericalDirection(float cosTheta, float phi) {
     const float sinTheta = safeSqrt(1.0f - cosTheta * cosTheta);
     return Vector3f(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
 }
 
-float Warp::squareToUniformSquarePdf(const Point2f &p) {
+NORI_REPLACEABLE Point2f Warp::squareToUniformSquare(const Point2f &sample) {
+    return sample;
+}
+
+NORI_REPLACEABLE float Warp::squareToUniformSquarePdf(const Point2f &p) {
     return (p.array() >= 0.0f).all() && (p.array() <= 1.0f).all() ? 1.0f : 0.0f;
 }
 
-Point2f Warp::squareToTent(const Point2f &sample) {
+NORI_REPLACEABLE Point2f Warp::squareToTent(const Point2f &sample) {
     return Point2f(tent1D(sample.x()), tent1D(sample.y()));
 }
 
-float Warp::squareToTentPdf(const Point2f &p) {
+NORI_REPLACEABLE float Warp::squareToTentPdf(const Point2f &p) {
     return std::max(0.0f, 1.0f - std::abs(p.x())) * std::max(0.0f, 1.0f - std::abs(p.y()));
 }
 
-Point2f Warp::squareToUniformDisk(const Point2f &sample) {
+NORI_REPLACEABLE Point2f Warp::squareToUniformDisk(const Point2f &sample) {
     const float r = std::sqrt(sample.x()), phi = 2.0f * kPi * sample.y();
     return Point2f(r * std::cos(phi), r * std::sin(phi));
 }
 
-float Warp::squareToUniformDiskPdf(const Point2f &p) {
+NORI_REPLACEABLE float Warp::squareToUniformDiskPdf(const Point2f &p) {
     return p.squaredNorm() <= 1.0f ? kInvPi : 0.0f;
 }
 
-Point2f Warp::squareToUniformDiskConcentric(const Point2f &sample) {
+NORI_REPLACEABLE Point2f Warp::squareToUniformDiskConcentric(const Point2f &sample) {
     // Shirley & Chiu 1997: map concentric squares to concentric circles.
     const Point2f offset(2.0f * sample.x() - 1.0f, 2.0f * sample.y() - 1.0f);
     if (offset.x() == 0.0f && offset.y() == 0.0f)
@@ -58,67 +66,77 @@ Point2f Warp::squareToUniformDiskConcentric(const Point2f &sample) {
     return Point2f(r * std::cos(theta), r * std::sin(theta));
 }
 
-float Warp::squareToUniformDiskConcentricPdf(const Point2f &p) {
+NORI_REPLACEABLE float Warp::squareToUniformDiskConcentricPdf(const Point2f &p) {
     return squareToUniformDiskPdf(p);
 }
 
-Vector3f Warp::squareToUniformSphere(const Point2f &sample) {
+NORI_REPLACEABLE Point2f Warp::squareToUniformTriangle(const Point2f &sample) {
+    // Folding the square along its diagonal keeps the density uniform.
+    return sample.x() + sample.y() <= 1.0f ? sample : Point2f(1.0f - sample.x(), 1.0f - sample.y());
+}
+
+NORI_REPLACEABLE float Warp::squareToUniformTrianglePdf(const Point2f &p) {
+    return p.x() >= 0.0f && p.y() >= 0.0f && p.x() + p.y() <= 1.0f ? 2.0f : 0.0f;
+}
+
+NORI_REPLACEABLE Vector3f Warp::squareToUniformSphere(const Point2f &sample) {
     return sphericalDirection(1.0f - 2.0f * sample.x(), 2.0f * kPi * sample.y());
 }
 
-float Warp::squareToUniformSpherePdf(const Vector3f &v) {
+NORI_REPLACEABLE float Warp::squareToUniformSpherePdf(const Vector3f &v) {
     return isUnit(v) ? kInvFourPi : 0.0f;
 }
 
-Vector3f Warp::squareToUniformHemisphere(const Point2f &sample) {
+NORI_REPLACEABLE Vector3f Warp::squareToUniformHemisphere(const Point2f &sample) {
     return sphericalDirection(sample.x(), 2.0f * kPi * sample.y());
 }
 
-float Warp::squareToUniformHemispherePdf(const Vector3f &v) {
+NORI_REPLACEABLE float Warp::squareToUniformHemispherePdf(const Vector3f &v) {
     return isUnit(v) && v.z() >= 0.0f ? kInvTwoPi : 0.0f;
 }
 
-Vector3f Warp::squareToCosineHemisphere(const Point2f &sample) {
+NORI_REPLACEABLE Vector3f Warp::squareToCosineHemisphere(const Point2f &sample) {
     // Malley: a uniform point on the disk lifted to the hemisphere is cosine distributed.
     const Point2f d = squareToUniformDiskConcentric(sample);
     return Vector3f(d.x(), d.y(), safeSqrt(1.0f - d.squaredNorm()));
 }
 
-float Warp::squareToCosineHemispherePdf(const Vector3f &v) {
+NORI_REPLACEABLE float Warp::squareToCosineHemispherePdf(const Vector3f &v) {
     return isUnit(v) && v.z() >= 0.0f ? v.z() * kInvPi : 0.0f;
 }
 
-Vector3f Warp::squareToCosinePowerHemisphere(const Point2f &sample, float exponent) {
+NORI_REPLACEABLE Vector3f Warp::squareToCosinePowerHemisphere(const Point2f &sample,
+                                                              float exponent) {
     // The CDF of cos θ is cos^{n+1} θ, so cos θ = u^{1/(n+1)}.
     return sphericalDirection(std::pow(sample.x(), 1.0f / (exponent + 1.0f)),
                               2.0f * kPi * sample.y());
 }
 
-float Warp::squareToCosinePowerHemispherePdf(const Vector3f &v, float exponent) {
+NORI_REPLACEABLE float Warp::squareToCosinePowerHemispherePdf(const Vector3f &v, float exponent) {
     if (!isUnit(v) || v.z() < 0.0f)
         return 0.0f;
     return (exponent + 1.0f) * kInvTwoPi * std::pow(v.z(), exponent);
 }
 
-Vector3f Warp::squareToUniformSphereCap(const Point2f &sample, float cosThetaMax) {
+NORI_REPLACEABLE Vector3f Warp::squareToUniformSphereCap(const Point2f &sample, float cosThetaMax) {
     // cos θ is uniform on [cosThetaMax, 1] (a cap's area is linear in cos θ).
     return sphericalDirection(1.0f - sample.x() * (1.0f - cosThetaMax), 2.0f * kPi * sample.y());
 }
 
-float Warp::squareToUniformSphereCapPdf(const Vector3f &v, float cosThetaMax) {
+NORI_REPLACEABLE float Warp::squareToUniformSphereCapPdf(const Vector3f &v, float cosThetaMax) {
     if (!isUnit(v) || v.z() < cosThetaMax)
         return 0.0f;
     return kInvTwoPi / (1.0f - cosThetaMax);
 }
 
-Vector3f Warp::squareToBeckmann(const Point2f &sample, float alpha) {
+NORI_REPLACEABLE Vector3f Warp::squareToBeckmann(const Point2f &sample, float alpha) {
     // Inverting the CDF of tan²θ: tan²θ = −α² ln(1 − u).
     const float tan2Theta = -alpha * alpha * std::log1p(-sample.x());
     const float cosTheta = 1.0f / std::sqrt(1.0f + tan2Theta);
     return sphericalDirection(cosTheta, 2.0f * kPi * sample.y());
 }
 
-float Warp::squareToBeckmannPdf(const Vector3f &m, float alpha) {
+NORI_REPLACEABLE float Warp::squareToBeckmannPdf(const Vector3f &m, float alpha) {
     const float cos2Theta = m.z() * m.z();
     // Below cos²θ ~ 1e-20, D has underflowed to 0 (and the formula would give 0/0).
     if (!isUnit(m) || m.z() <= 0.0f || cos2Theta < 1e-20f)
@@ -129,14 +147,14 @@ float Warp::squareToBeckmannPdf(const Vector3f &m, float alpha) {
     return d * m.z();
 }
 
-Vector3f Warp::squareToGGX(const Point2f &sample, float alpha) {
+NORI_REPLACEABLE Vector3f Warp::squareToGGX(const Point2f &sample, float alpha) {
     // Inverting the CDF of tan²θ: tan²θ = α² u/(1 − u).
     const float tan2Theta = alpha * alpha * sample.x() / (1.0f - sample.x());
     const float cosTheta = 1.0f / std::sqrt(1.0f + tan2Theta);
     return sphericalDirection(cosTheta, 2.0f * kPi * sample.y());
 }
 
-float Warp::squareToGGXPdf(const Vector3f &m, float alpha) {
+NORI_REPLACEABLE float Warp::squareToGGXPdf(const Vector3f &m, float alpha) {
     if (!isUnit(m) || m.z() <= 0.0f)
         return 0.0f;
     // D = α²/(π cos⁴θ (α² + tan²θ)²) = α²/(π ((α² − 1) cos²θ + 1)²), the second form
@@ -147,7 +165,7 @@ float Warp::squareToGGXPdf(const Vector3f &m, float alpha) {
     return d * m.z();
 }
 
-Vector3f Warp::squareToGTR1(const Point2f &sample, float alpha) {
+NORI_REPLACEABLE Vector3f Warp::squareToGTR1(const Point2f &sample, float alpha) {
     const float alpha2 = alpha * alpha;
     // Burley 2012, B.2: cos²θ = (1 − α^{2(1−u)})/(1 − α²); α → 1 is the cosine lobe.
     const float cos2Theta = std::abs(1.0f - alpha2) < 1e-4f
@@ -156,7 +174,7 @@ Vector3f Warp::squareToGTR1(const Point2f &sample, float alpha) {
     return sphericalDirection(safeSqrt(cos2Theta), 2.0f * kPi * sample.y());
 }
 
-float Warp::squareToGTR1Pdf(const Vector3f &m, float alpha) {
+NORI_REPLACEABLE float Warp::squareToGTR1Pdf(const Vector3f &m, float alpha) {
     if (!isUnit(m) || m.z() <= 0.0f)
         return 0.0f;
     const float alpha2 = alpha * alpha;
@@ -167,7 +185,7 @@ float Warp::squareToGTR1Pdf(const Vector3f &m, float alpha) {
     return d * m.z();
 }
 
-Vector3f Warp::squareToHenyeyGreenstein(const Point2f &sample, float g) {
+NORI_REPLACEABLE Vector3f Warp::squareToHenyeyGreenstein(const Point2f &sample, float g) {
     float cosTheta;
     if (std::abs(g) < 1e-3f) {
         cosTheta = 1.0f - 2.0f * sample.x();
@@ -179,7 +197,7 @@ Vector3f Warp::squareToHenyeyGreenstein(const Point2f &sample, float g) {
     return sphericalDirection(cosTheta, 2.0f * kPi * sample.y());
 }
 
-float Warp::squareToHenyeyGreensteinPdf(const Vector3f &v, float g) {
+NORI_REPLACEABLE float Warp::squareToHenyeyGreensteinPdf(const Vector3f &v, float g) {
     if (!isUnit(v))
         return 0.0f;
     const float denominator = 1.0f + g * g - 2.0f * g * v.z();

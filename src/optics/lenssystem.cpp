@@ -272,7 +272,7 @@ ExitPupil::ExitPupil(const LensSystem &lens, double filmRadius, int intervals,
 }
 
 double ExitPupil::Region::area() const {
-    return M_PI * semiAxes.x() * semiAxes.y();
+    return kPiDouble * semiAxes.x() * semiAxes.y();
 }
 
 bool ExitPupil::Region::contains(const Eigen::Vector2d &p) const {

@@ -26,8 +26,12 @@ void Medium::activate() {
 
 void Medium::readCoefficients(const PropertyList &props, const std::string &plugin, Color3f &sigmaT,
                               Color3f &albedo) {
-    const bool scatteringForm = props.has("sigmaS") || props.has("sigmaA");
-    if (scatteringForm && (props.has("sigmaT") || props.has("albedo")))
+    // sigma_s, sigma_a, sigma_t: the spellings of pbrt's and of many course scenes.
+    const std::string sigmaSName = props.spelling("sigmaS", {"sigma_s"});
+    const std::string sigmaAName = props.spelling("sigmaA", {"sigma_a"});
+    const std::string sigmaTName = props.spelling("sigmaT", {"sigma_t"});
+    const bool scatteringForm = props.has(sigmaSName) || props.has(sigmaAName);
+    if (scatteringForm && (props.has(sigmaTName) || props.has("albedo")))
         throw NoriException("{}: give either 'sigmaS' and 'sigmaA', or 'sigmaT' and 'albedo', "
                             "not a mix",
                             plugin);
@@ -41,14 +45,14 @@ void Medium::readCoefficients(const PropertyList &props, const std::string &plug
     if (!(scale >= 0.0f) || !std::isfinite(scale))
         throw NoriException("{}: 'scale' must be finite and non-negative, got {}", plugin, scale);
     if (scatteringForm) {
-        const Color3f sigmaS = checked("sigmaS", props.getColor("sigmaS", Color3f(0.0f)));
-        const Color3f sigmaA = checked("sigmaA", props.getColor("sigmaA", Color3f(0.0f)));
+        const Color3f sigmaS = checked("sigmaS", props.getColor(sigmaSName, Color3f(0.0f)));
+        const Color3f sigmaA = checked("sigmaA", props.getColor(sigmaAName, Color3f(0.0f)));
         sigmaT = (sigmaS + sigmaA) * scale;
         // A channel that does not interact has no meaningful albedo; 0 keeps weights finite.
         albedo = (sigmaT > 0.0f).select(sigmaS * scale / sigmaT, Color3f(0.0f));
     } else {
         // Mitsuba 3's defaults.
-        sigmaT = checked("sigmaT", props.getColor("sigmaT", Color3f(1.0f))) * scale;
+        sigmaT = checked("sigmaT", props.getColor(sigmaTName, Color3f(1.0f))) * scale;
         albedo = checked("albedo", props.getColor("albedo", Color3f(0.75f)));
         if ((albedo > 1.0f).any())
             throw NoriException("{}: 'albedo' must lie in [0, 1], got {}", plugin,

@@ -1,6 +1,24 @@
 #include <nori/sampler.h>
+#include <nori/warp.h>
 
 namespace nori {
+
+// Weak, like the other warps (warp.h); here because it needs the Sampler.
+__attribute__((weak)) Vector3f Warp::sampleUniformHemisphere(Sampler *sampler,
+                                                             const Normal3f &northPole) {
+    // A point uniform in the cube [-1, 1]³, kept when it falls in the unit ball: its
+    // direction is then uniform on the sphere; flipped into northPole's hemisphere.
+    while (true) {
+        const Point2f xy = sampler->next2D();
+        const Vector3f v(2.0f * xy.x() - 1.0f, 2.0f * xy.y() - 1.0f,
+                         2.0f * sampler->next1D() - 1.0f);
+        const float squaredNorm = v.squaredNorm();
+        if (squaredNorm > 1e-8f && squaredNorm <= 1.0f) {
+            const Vector3f direction = v / std::sqrt(squaredNorm);
+            return direction.dot(northPole) < 0.0f ? Vector3f(-direction) : direction;
+        }
+    }
+}
 
 void Sampler::readCommonProperties(const PropertyList &props) {
     const int sampleCount = props.getInteger("sampleCount", 1);

@@ -99,9 +99,12 @@ void Scene::activate() {
     m_contents.visitShapes([this](const Shape &shape) {
         m_needsRayDifferentials = m_needsRayDifferentials || usesFootprint(shape);
     });
+    m_meshes.clear();
     for (const auto &shape : getShapes()) {
         if (shape->getEmitterPtr())
             m_emitters.push_back(shape->getEmitterPtr());
+        if (auto *mesh = dynamic_cast<Mesh *>(shape.get()))
+            m_meshes.push_back(mesh);
     }
     const auto start = std::chrono::steady_clock::now();
     m_contents.build();

@@ -28,7 +28,7 @@ struct DomainMap {
             break;
         case SampleDomain::Sphere:
             // (cos θ, φ): dω = d(cos θ) dφ, so equal rectangles are equal solid angles.
-            x0 = -1, x1 = 1, y0 = 0, y1 = 2 * M_PI;
+            x0 = -1, x1 = 1, y0 = 0, y1 = 2 * kPiDouble;
             break;
         }
     }
@@ -45,7 +45,7 @@ struct DomainMap {
         x = std::clamp(static_cast<double>(point.z()), -1.0, 1.0);
         y = std::atan2(static_cast<double>(point.y()), static_cast<double>(point.x()));
         if (y < 0.0)
-            y += 2.0 * M_PI;
+            y += 2.0 * kPiDouble;
     }
 
     Vector3f fromRectangle(double x, double y) const {

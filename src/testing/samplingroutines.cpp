@@ -57,6 +57,11 @@ const std::vector<NamedWarp> &namedWarps() {
          [](float) {
              return planar(SampleDomain::CenteredSquare, Warp::squareToTent, Warp::squareToTentPdf);
          }},
+        {"triangle", "", 0.0f,
+         [](float) {
+             return planar(SampleDomain::UnitSquare, Warp::squareToUniformTriangle,
+                           Warp::squareToUniformTrianglePdf);
+         }},
         {"disk", "", 0.0f,
          [](float) {
              return planar(SampleDomain::CenteredSquare, Warp::squareToUniformDisk,
