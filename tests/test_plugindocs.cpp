@@ -7,6 +7,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -16,12 +17,12 @@ using nori::testing::errorOf;
 
 namespace {
 
-/// The plugins registered from files under plugins/ (not the tests' own plugins).
+/// The plugins registered from the project's own files (plugins/shipped.txt), not from
+/// a user's files in plugins/ nor from the tests' own plugins.
 std::vector<std::pair<NoriObject::EClassType, std::string>> shippedPlugins() {
     std::vector<std::pair<NoriObject::EClassType, std::string>> plugins;
     for (const auto &[type, name] : NoriObjectFactory::registeredClasses())
-        if (shortSourcePath(NoriObjectFactory::entry(type, name).sourceFile).rfind("plugins/", 0) ==
-            0)
+        if (isShippedPlugin(type, name))
             plugins.emplace_back(type, name);
     return plugins;
 }
@@ -92,6 +93,23 @@ TEST_CASE("Every plugin has a doc block with its name and at least one example",
         CHECK_FALSE(doc.summary.empty());
         CHECK_FALSE(doc.examples.empty());
     }
+}
+
+TEST_CASE("Every file of plugins/shipped.txt exists and registers a plugin", "[docs]") {
+    std::set<std::string> registeringFiles;
+    for (const auto &[type, name] : shippedPlugins())
+        registeringFiles.insert(shortSourcePath(NoriObjectFactory::entry(type, name).sourceFile));
+    std::ifstream list(std::string(NORI_SOURCE_DIR) + "/plugins/shipped.txt");
+    REQUIRE(list);
+    int files = 0;
+    for (std::string line; std::getline(list, line);) {
+        if (line.empty() || line[0] == '#')
+            continue;
+        ++files;
+        INFO(line);
+        CHECK(registeringFiles.count("plugins/" + line) == 1);
+    }
+    CHECK(files == static_cast<int>(registeringFiles.size()));
 }
 
 TEST_CASE("Every plugin's examples load, and it reads only documented parameters", "[docs]") {

@@ -16,6 +16,7 @@
 #include <nori/fresnel.h>
 
 namespace nori {
+namespace {
 
 class Conductor : public BSDF {
 public:
@@ -47,4 +48,5 @@ private:
 
 NORI_REGISTER_CLASS(Conductor, "conductor");
 
+} // namespace
 } // namespace nori

@@ -14,6 +14,7 @@
 #include <nori/fresnel.h>
 
 namespace nori {
+namespace {
 
 class Dielectric : public BSDF {
 public:
@@ -59,4 +60,5 @@ private:
 
 NORI_REGISTER_CLASS(Dielectric, "dielectric");
 
+} // namespace
 } // namespace nori

@@ -20,6 +20,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class Diffuse : public BSDF {
 public:
@@ -75,4 +76,5 @@ private:
 
 NORI_REGISTER_CLASS(Diffuse, "diffuse");
 
+} // namespace
 } // namespace nori

@@ -70,7 +70,6 @@
 #include <array>
 
 namespace nori {
-
 namespace {
 
 /// Schlick's weight (1 − cos θ)⁵ (Schlick 1994, eq. 24).
@@ -89,8 +88,6 @@ const MicrofacetDistribution kClearcoatShadowing(MicrofacetDistribution::Type::G
 enum Lobe { kDiffuseLobe, kSheenLobe, kSpecularLobe, kClearcoatLobe, kLobeCount };
 const std::array<const char *, kLobeCount> kLobeNames = {"diffuse", "sheen", "specular",
                                                          "clearcoat"};
-
-} // namespace
 
 class Disney : public BSDF {
 public:
@@ -301,4 +298,5 @@ private:
 
 NORI_REGISTER_CLASS(Disney, "disney");
 
+} // namespace
 } // namespace nori

@@ -19,6 +19,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class Microfacet : public BSDF {
 public:
@@ -102,4 +103,5 @@ private:
 
 NORI_REGISTER_CLASS(Microfacet, "microfacet");
 
+} // namespace
 } // namespace nori

@@ -9,6 +9,7 @@
 #include <nori/frame.h>
 
 namespace nori {
+namespace {
 
 class Mirror : public BSDF {
 public:
@@ -33,4 +34,5 @@ public:
 
 NORI_REGISTER_CLASS(Mirror, "mirror");
 
+} // namespace
 } // namespace nori

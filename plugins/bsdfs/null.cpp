@@ -12,6 +12,7 @@
 #include <nori/bsdf.h>
 
 namespace nori {
+namespace {
 
 class NullBSDF : public BSDF {
 public:
@@ -34,4 +35,5 @@ public:
 
 NORI_REGISTER_CLASS(NullBSDF, "null");
 
+} // namespace
 } // namespace nori

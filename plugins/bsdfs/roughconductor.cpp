@@ -19,6 +19,7 @@
 #include <nori/microfacet.h>
 
 namespace nori {
+namespace {
 
 class RoughConductor : public BSDF {
 public:
@@ -77,4 +78,5 @@ private:
 
 NORI_REGISTER_CLASS(RoughConductor, "roughconductor");
 
+} // namespace
 } // namespace nori

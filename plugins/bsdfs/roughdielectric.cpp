@@ -19,6 +19,7 @@
 #include <nori/microfacet.h>
 
 namespace nori {
+namespace {
 
 class RoughDielectric : public BSDF {
 public:
@@ -161,4 +162,5 @@ private:
 
 NORI_REGISTER_CLASS(RoughDielectric, "roughdielectric");
 
+} // namespace
 } // namespace nori

@@ -15,7 +15,8 @@
  *   toWorld     transform  identity  camera-to-world transform
  *   convention  string     "epfl"    "epfl": x mirrored (Nori 2, Mitsuba); "eth": not
  *                                    mirrored (the ETH course); see nori --camera-convention
- *   apertureRadius  float  0         radius of the lens; 0 is a pinhole (the same images)
+ *   apertureRadius, lensRadius  float  0  radius of the lens; 0 is a pinhole (the same
+ *                                     images); lensRadius: pbrt's and the courses' name
  *   focalDistance   float  10        distance (along the view axis) of the sharp plane
  *
  * Also registered as: thinlens.
@@ -34,6 +35,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class PerspectiveCamera : public Camera {
 public:
@@ -45,7 +47,7 @@ public:
         m_farClip = props.getFloat("farClip", 1e4f);
         m_cameraToWorld = props.getTransform("toWorld", Transform());
         m_convention = readConvention(props);
-        m_apertureRadius = props.getFloat("apertureRadius", 0.0f);
+        m_apertureRadius = props.getFloat(props.spelling("apertureRadius", {"lensRadius"}), 0.0f);
         m_focalDistance = props.getFloat("focalDistance", 10.0f);
         if (!(m_apertureRadius >= 0.0f) || !std::isfinite(m_apertureRadius))
             throw NoriException("perspective: 'apertureRadius' must be finite and not "
@@ -110,4 +112,5 @@ private:
 NORI_REGISTER_CLASS(PerspectiveCamera, "perspective");
 NORI_REGISTER_ALIAS(PerspectiveCamera, "thinlens", thinlens);
 
+} // namespace
 } // namespace nori

@@ -42,6 +42,7 @@
 #include <mutex>
 
 namespace nori {
+namespace {
 
 class RealisticCamera : public Camera {
 public:
@@ -89,7 +90,7 @@ public:
 
     Color3f sampleRayDifferential(Ray3f &ray, const Point2f &samplePosition,
                                   const Point2f &apertureSample) const override {
-        const Color3f weight = sampleRay(ray, samplePosition, apertureSample);
+        Color3f weight = sampleRay(ray, samplePosition, apertureSample);
         if ((weight == 0.0f).all())
             return weight;
         const Eigen::Vector2d u(apertureSample.x(), apertureSample.y());
@@ -209,4 +210,5 @@ private:
 
 NORI_REGISTER_CLASS(RealisticCamera, "realistic");
 
+} // namespace
 } // namespace nori

@@ -23,6 +23,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class AreaLight : public Emitter {
 public:
@@ -100,4 +101,5 @@ private:
 
 NORI_REGISTER_CLASS(AreaLight, "area");
 
+} // namespace
 } // namespace nori

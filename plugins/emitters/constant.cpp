@@ -14,6 +14,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class ConstantEnvironment : public Emitter {
 public:
@@ -60,4 +61,5 @@ private:
 
 NORI_REGISTER_CLASS(ConstantEnvironment, "constant");
 
+} // namespace
 } // namespace nori

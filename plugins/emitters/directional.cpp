@@ -16,6 +16,7 @@
 #include <nori/proplist.h>
 
 namespace nori {
+namespace {
 
 class DirectionalLight : public Emitter {
 public:
@@ -66,4 +67,5 @@ private:
 
 NORI_REGISTER_CLASS(DirectionalLight, "directional");
 
+} // namespace
 } // namespace nori

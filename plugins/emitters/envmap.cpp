@@ -12,7 +12,8 @@
  *
  * Parameters:
  *   filename  string     (required)   the lat-long image, relative to the scene file
- *   scale     float      1            multiplies the radiance
+ *   scale, strength  float  1         multiplies the radiance (strength: the name
+ *                                     Blender and several course scenes use)
  *   toWorld   transform  identity     orientation of the map (rotations)
  *   sampling  string     "luminance"  "luminance" (importance sampling, above) or
  *                                     "uniform" (directions uniform over the sphere:
@@ -21,6 +22,13 @@
  *   <emitter type="envmap">
  *       <string name="filename" value="scenes/textured/textures/sky.exr"/>
  *   </emitter>
+ *
+ *   <emitter type="environment">
+ *       <string name="filename" value="scenes/textured/textures/sky.exr"/>
+ *       <float name="strength" value="2"/>
+ *   </emitter>
+ *
+ * Also registered as: environment.
  */
 #include <nori/bbox.h>
 #include <nori/dpdf.h>
@@ -31,12 +39,13 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class EnvironmentMap : public Emitter {
 public:
     explicit EnvironmentMap(const PropertyList &props) {
         m_filename = props.getPath("filename");
-        m_scale = props.getFloat("scale", 1.0f);
+        m_scale = props.getFloat(props.spelling("scale", {"strength"}), 1.0f);
         if (!(m_scale >= 0.0f) || !std::isfinite(m_scale))
             throw NoriException("envmap: 'scale' must be finite and not negative, got {}", m_scale);
         m_toWorld = props.getTransform("toWorld", Transform());
@@ -80,7 +89,7 @@ public:
     Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
                          const Point2f &directionSample) const override {
         EmitterQueryRecord lRec(m_scene.center);
-        const Color3f radianceOverPdf = sample(lRec, directionSample);
+        Color3f radianceOverPdf = sample(lRec, directionSample);
         if ((radianceOverPdf == 0.0f).all())
             return radianceOverPdf;
         return radianceOverPdf * m_scene.photonRayFrom(lRec.wi, positionSample, ray);
@@ -173,5 +182,7 @@ private:
 };
 
 NORI_REGISTER_CLASS(EnvironmentMap, "envmap");
+NORI_REGISTER_ALIAS(EnvironmentMap, "environment", environment);
 
+} // namespace
 } // namespace nori

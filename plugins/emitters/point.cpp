@@ -14,6 +14,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class PointLight : public Emitter {
 public:
@@ -53,4 +54,5 @@ private:
 
 NORI_REGISTER_CLASS(PointLight, "point");
 
+} // namespace
 } // namespace nori

@@ -7,7 +7,8 @@
  *
  * Parameters:
  *   position     point      (0, 0, 0)  where the light is
- *   target       point      —          a point on its axis (default: along +z)
+ *   target       point      —          a point on its axis (default: along +z) ...
+ *   direction    vector     —          ... or the axis itself (the courses' spelling)
  *   toWorld      transform  —          instead of position and target: the light sits at
  *                                      the origin of this frame and shines along its +z
  *   intensity    color      —          radiant intensity I on the axis (W/sr) ...
@@ -15,6 +16,10 @@
  *   cutoffAngle  float      30         half-angle (degrees) where the light stops
  *   beamWidth    float      20         half-angle (degrees) of full intensity, at most
  *                                      cutoffAngle
+ *   cosTotalWidth  float    —          instead of cutoffAngle: its cosine (pbrt's and
+ *                                      the courses' spelling); a value above 1 can only
+ *                                      be degrees, and is read as such, with a note
+ *   cosFalloffStart  float  —          instead of beamWidth: its cosine (likewise)
  *
  *   <emitter type="spot"><point name="position" value="0, 3, 0"/>
  *       <point name="target" value="0, 0, 0"/> <color name="intensity" value="20"/>
@@ -26,13 +31,36 @@
 #include <nori/transform.h>
 #include <nori/warp.h>
 
+#include <iostream>
+
 namespace nori {
+namespace {
+
+/// A half-angle in degrees given as `angleName` (degrees) or as `cosineName` (its cosine,
+/// pbrt-v3's spelling). Course scenes often write degrees into the cosine's name; a value
+/// above 1 cannot be a cosine, so it is read as degrees, with a note.
+float readHalfAngle(const PropertyList &props, const char *angleName, const char *cosineName,
+                    float defaultDegrees) {
+    if (props.spelling(angleName, {cosineName}) == angleName)
+        return props.getFloat(angleName, defaultDegrees);
+    const float value = props.getFloat(cosineName);
+    if (value > 1.0f) {
+        std::cerr << fmt::format("Note: {}: spot: '{}' = {} is above 1, so it is no cosine: read "
+                                 "as {} degrees ('{}')\n",
+                                 props.location(cosineName), cosineName, value, value, angleName);
+        return value;
+    }
+    if (!(value >= -1.0f))
+        throw NoriException("spot: '{}' must be a cosine in [-1, 1] (or degrees above 1), got {}",
+                            cosineName, value);
+    return radToDeg(std::acos(value));
+}
 
 class SpotLight : public Emitter {
 public:
     explicit SpotLight(const PropertyList &props) {
-        m_cutoffAngle = props.getFloat("cutoffAngle", 30.0f);
-        m_beamWidth = props.getFloat("beamWidth", 20.0f);
+        m_cutoffAngle = readHalfAngle(props, "cutoffAngle", "cosTotalWidth", 30.0f);
+        m_beamWidth = readHalfAngle(props, "beamWidth", "cosFalloffStart", 20.0f);
         if (!(m_cutoffAngle > 0.0f && m_cutoffAngle <= 180.0f))
             throw NoriException("spot: 'cutoffAngle' must be in (0, 180] degrees, got {}",
                                 m_cutoffAngle);
@@ -45,18 +73,24 @@ public:
         m_intensity = readIntensity(props, "spot", solidAngle());
 
         if (props.has("toWorld")) {
-            if (props.has("position") || props.has("target"))
-                throw NoriException("spot: give 'toWorld' or 'position' and 'target', not both");
+            if (props.has("position") || props.has("target") || props.has("direction"))
+                throw NoriException(
+                    "spot: give 'toWorld' or 'position' and 'target' (or 'direction'), not both");
             const Transform toWorld = props.getTransform("toWorld");
             m_position = toWorld * Point3f(0.0f, 0.0f, 0.0f);
             m_axis = Vector3f(toWorld * Vector3f(0.0f, 0.0f, 1.0f)).normalized();
         } else {
             m_position = props.getPoint("position", Point3f(0.0f));
-            const Point3f target =
-                props.getPoint("target", m_position + Vector3f(0.0f, 0.0f, 1.0f));
-            const Vector3f axis = target - m_position;
-            if (!(axis.norm() > 0.0f) || !axis.allFinite())
-                throw NoriException("spot: 'target' must differ from 'position'");
+            Vector3f axis(0.0f, 0.0f, 1.0f);
+            if (props.spelling("target", {"direction"}) == "direction") {
+                axis = props.getVector("direction");
+                if (!(axis.norm() > 0.0f) || !axis.allFinite())
+                    throw NoriException("spot: 'direction' must be a finite, non-zero vector");
+            } else if (props.has("target")) {
+                axis = props.getPoint("target") - m_position;
+                if (!(axis.norm() > 0.0f) || !axis.allFinite())
+                    throw NoriException("spot: 'target' must differ from 'position'");
+            }
             m_axis = axis.normalized();
         }
     }
@@ -134,4 +168,5 @@ private:
 
 NORI_REGISTER_CLASS(SpotLight, "spot");
 
+} // namespace
 } // namespace nori

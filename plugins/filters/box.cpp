@@ -9,6 +9,7 @@
 #include <nori/rfilter.h>
 
 namespace nori {
+namespace {
 
 class BoxFilter : public ReconstructionFilter {
 public:
@@ -24,4 +25,5 @@ public:
 
 NORI_REGISTER_CLASS(BoxFilter, "box");
 
+} // namespace
 } // namespace nori

@@ -13,6 +13,7 @@
 #include <nori/rfilter.h>
 
 namespace nori {
+namespace {
 
 class GaussianFilter : public ReconstructionFilter {
 public:
@@ -25,8 +26,9 @@ public:
         m_tail = std::exp(m_alpha * m_radius * m_radius);
         // ∫_{-r}^{r} exp(-x²/2σ²) − exp(-r²/2σ²) dx = σ√(2π)·erf(r/(σ√2)) − 2r·exp(-r²/2σ²).
         const double sigma = m_stddev, r = m_radius;
-        const double integral = sigma * std::sqrt(2.0 * M_PI) * std::erf(r / (sigma * M_SQRT2)) -
-                                2.0 * r * std::exp(-r * r / (2.0 * sigma * sigma));
+        const double integral =
+            sigma * std::sqrt(2.0 * kPiDouble) * std::erf(r / (sigma * M_SQRT2)) -
+            2.0 * r * std::exp(-r * r / (2.0 * sigma * sigma));
         m_normalization = static_cast<float>(1.0 / integral);
     }
 
@@ -44,4 +46,5 @@ private:
 
 NORI_REGISTER_CLASS(GaussianFilter, "gaussian");
 
+} // namespace
 } // namespace nori

@@ -12,6 +12,7 @@
 #include <nori/rfilter.h>
 
 namespace nori {
+namespace {
 
 class MitchellNetravaliFilter : public ReconstructionFilter {
 public:
@@ -45,4 +46,5 @@ private:
 
 NORI_REGISTER_CLASS(MitchellNetravaliFilter, "mitchell");
 
+} // namespace
 } // namespace nori

@@ -9,6 +9,7 @@
 #include <nori/rfilter.h>
 
 namespace nori {
+namespace {
 
 class TentFilter : public ReconstructionFilter {
 public:
@@ -26,4 +27,5 @@ public:
 
 NORI_REGISTER_CLASS(TentFilter, "tent");
 
+} // namespace
 } // namespace nori

@@ -17,6 +17,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class AmbientOcclusionIntegrator : public Integrator {
 public:
@@ -60,4 +61,5 @@ private:
 
 NORI_REGISTER_CLASS(AmbientOcclusionIntegrator, "ao");
 
+} // namespace
 } // namespace nori

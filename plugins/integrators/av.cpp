@@ -15,6 +15,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class AverageVisibility : public Integrator {
 public:
@@ -47,4 +48,5 @@ private:
 
 NORI_REGISTER_CLASS(AverageVisibility, "av");
 
+} // namespace
 } // namespace nori

@@ -29,6 +29,7 @@
 #include <nori/scene.h>
 
 namespace nori {
+namespace {
 
 class DirectLighting : public Integrator {
 public:
@@ -132,4 +133,5 @@ NORI_REGISTER_ALIAS(DirectEMS, "direct_ems", ems);
 NORI_REGISTER_ALIAS(DirectMATS, "direct_mats", mats);
 NORI_REGISTER_ALIAS(DirectMIS, "direct_mis", mis);
 
+} // namespace
 } // namespace nori

@@ -18,6 +18,7 @@
 #include <array>
 
 namespace nori {
+namespace {
 
 class MipLevelIntegrator : public Integrator {
 public:
@@ -60,4 +61,5 @@ private:
 
 NORI_REGISTER_CLASS(MipLevelIntegrator, "miplevel");
 
+} // namespace
 } // namespace nori

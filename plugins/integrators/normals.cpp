@@ -10,6 +10,7 @@
 #include <nori/scene.h>
 
 namespace nori {
+namespace {
 
 class NormalIntegrator : public Integrator {
 public:
@@ -29,4 +30,5 @@ public:
 
 NORI_REGISTER_CLASS(NormalIntegrator, "normals");
 
+} // namespace
 } // namespace nori

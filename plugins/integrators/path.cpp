@@ -30,6 +30,7 @@
 #include <nori/scene.h>
 
 namespace nori {
+namespace {
 
 class PathTracer : public Integrator {
 public:
@@ -145,4 +146,5 @@ NORI_REGISTER_ALIAS(PathTracer, "path_mis", mis);
 NORI_REGISTER_ALIAS(PathEMS, "path_ems", ems);
 NORI_REGISTER_ALIAS(PathMATS, "path_mats", mats);
 
+} // namespace
 } // namespace nori

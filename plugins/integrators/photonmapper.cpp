@@ -25,6 +25,7 @@
 #include <nori/scene.h>
 
 namespace nori {
+namespace {
 
 class PhotonMapper : public Integrator {
 public:
@@ -59,4 +60,5 @@ private:
 
 NORI_REGISTER_CLASS(PhotonMapper, "photonmapper");
 
+} // namespace
 } // namespace nori

@@ -34,6 +34,7 @@
 #include <tbb/parallel_for.h>
 
 namespace nori {
+namespace {
 
 class ProgressivePhotonMapper : public Integrator {
 public:
@@ -91,7 +92,7 @@ public:
             pixel = &m_pixels[static_cast<size_t>(p.y()) * m_width + p.x()];
         const float radius = pixel ? std::sqrt(pixel->radiusSquared) : m_initialRadius;
         size_t found = 0;
-        const Color3f radiance = photonMappedRadiance(*scene, m_map, *sampler, ray, radius, &found);
+        Color3f radiance = photonMappedRadiance(*scene, m_map, *sampler, ray, radius, &found);
         if (pixel) { // only this pixel's thread writes it during a pass (Integrator::beginPass)
             pixel->passPhotons += found;
             ++pixel->passSamples;
@@ -157,4 +158,5 @@ private:
 
 NORI_REGISTER_CLASS(ProgressivePhotonMapper, "progressivephotonmapper");
 
+} // namespace
 } // namespace nori

@@ -15,6 +15,7 @@
 #include <nori/scene.h>
 
 namespace nori {
+namespace {
 
 class SimpleIntegrator : public Integrator {
 public:
@@ -50,4 +51,5 @@ private:
 
 NORI_REGISTER_CLASS(SimpleIntegrator, "simple");
 
+} // namespace
 } // namespace nori

@@ -34,6 +34,7 @@
 #include <cstring>
 
 namespace nori {
+namespace {
 
 class VolumetricPathTracer : public Integrator {
 public:
@@ -266,4 +267,5 @@ private:
 
 NORI_REGISTER_CLASS(VolumetricPathTracer, "volpath");
 
+} // namespace
 } // namespace nori

@@ -16,6 +16,7 @@
 #include <nori/scene.h>
 
 namespace nori {
+namespace {
 
 class WhittedIntegrator : public Integrator {
 public:
@@ -59,4 +60,5 @@ public:
 
 NORI_REGISTER_CLASS(WhittedIntegrator, "whitted");
 
+} // namespace
 } // namespace nori

@@ -23,6 +23,7 @@
 #include <nori/phase.h>
 
 namespace nori {
+namespace {
 
 class HeterogeneousMedium : public Medium {
 public:
@@ -123,4 +124,5 @@ private:
 
 NORI_REGISTER_CLASS(HeterogeneousMedium, "heterogeneous");
 
+} // namespace
 } // namespace nori

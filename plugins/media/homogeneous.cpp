@@ -6,9 +6,10 @@
  * sampling").
  *
  * Parameters:
- *   sigmaS  color  0     scattering coefficient (per unit length)
- *   sigmaA  color  0     absorption coefficient
- *   sigmaT  color  1     extinction coefficient σa + σs (instead of sigmaS and sigmaA)
+ *   sigmaS, sigma_s  color  0     scattering coefficient (per unit length)
+ *   sigmaA, sigma_a  color  0     absorption coefficient
+ *   sigmaT, sigma_t  color  1     extinction coefficient σa + σs (instead of sigmaS and
+ *                                 sigmaA)
  *   albedo  color  0.75  single-scattering albedo σs/σt, in [0, 1] (with sigmaT)
  *   scale   float  1     multiplies the coefficients (a unit change)
  *
@@ -22,6 +23,7 @@
 #include <nori/phase.h>
 
 namespace nori {
+namespace {
 
 class HomogeneousMedium : public Medium {
 public:
@@ -74,4 +76,5 @@ private:
 
 NORI_REGISTER_CLASS(HomogeneousMedium, "homogeneous");
 
+} // namespace
 } // namespace nori

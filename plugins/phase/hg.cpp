@@ -7,12 +7,19 @@
  *   g  float  0  mean cosine of the scattering angle, in (−1, 1)
  *
  *   <phase type="hg"><float name="g" value="0.7"/></phase>
+ *
+ *   <phase type="henyey"><float name="g" value="-0.3"/></phase>
+ *
+ *   <phase type="henyeyGreenstein"><float name="g" value="0.2"/></phase>
+ *
+ * Also registered as: henyey, henyeyGreenstein.
  */
 #include <nori/frame.h>
 #include <nori/phase.h>
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class HenyeyGreenstein : public PhaseFunction {
 public:
@@ -44,5 +51,8 @@ private:
 };
 
 NORI_REGISTER_CLASS(HenyeyGreenstein, "hg");
+NORI_REGISTER_ALIAS(HenyeyGreenstein, "henyey", henyey);
+NORI_REGISTER_ALIAS(HenyeyGreenstein, "henyeyGreenstein", henyeyGreenstein);
 
+} // namespace
 } // namespace nori

@@ -10,6 +10,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class IsotropicPhase : public PhaseFunction {
 public:
@@ -32,4 +33,5 @@ public:
 
 NORI_REGISTER_CLASS(IsotropicPhase, "isotropic");
 
+} // namespace
 } // namespace nori

@@ -15,6 +15,7 @@
 #include <nori/sampler.h>
 
 namespace nori {
+namespace {
 
 class Independent : public Sampler {
 public:
@@ -49,4 +50,5 @@ private:
 
 NORI_REGISTER_CLASS(Independent, "independent");
 
+} // namespace
 } // namespace nori

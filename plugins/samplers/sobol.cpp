@@ -21,6 +21,7 @@
 #include <nori/sampler.h>
 
 namespace nori {
+namespace {
 
 class Sobol : public Sampler {
 public:
@@ -61,4 +62,5 @@ private:
 
 NORI_REGISTER_CLASS(Sobol, "sobol");
 
+} // namespace
 } // namespace nori

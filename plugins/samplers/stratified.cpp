@@ -20,6 +20,7 @@
 #include <nori/sampler.h>
 
 namespace nori {
+namespace {
 
 class Stratified : public Sampler {
 public:
@@ -42,9 +43,9 @@ public:
         const uint32_t rows = count / columns;
         const uint32_t cell =
             permutationElement(m_sampleIndex % count, count, static_cast<uint32_t>(hash));
-        return Point2f(
-            (static_cast<float>(cell % columns) + jitter(hash, 0)) / static_cast<float>(columns),
-            (static_cast<float>(cell / columns) + jitter(hash, 1)) / static_cast<float>(rows));
+        const uint32_t column = cell % columns, row = cell / columns;
+        return Point2f((static_cast<float>(column) + jitter(hash, 0)) / static_cast<float>(columns),
+                       (static_cast<float>(row) + jitter(hash, 1)) / static_cast<float>(rows));
     }
 
     std::string toString() const override {
@@ -86,4 +87,5 @@ private:
 
 NORI_REGISTER_CLASS(Stratified, "stratified");
 
+} // namespace
 } // namespace nori

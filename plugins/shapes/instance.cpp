@@ -24,7 +24,9 @@
 #include <nori/instance.h>
 
 namespace nori {
+namespace {
 
 NORI_REGISTER_CLASS(Instance, "instance");
 
+} // namespace
 } // namespace nori

@@ -40,7 +40,6 @@
 #include <tuple>
 
 namespace nori {
-
 namespace {
 
 /// Indices of one face corner into the position, uv and normal arrays (-1: absent).
@@ -163,8 +162,6 @@ private:
     std::map<Corner, int> m_cornerIndices;
 };
 
-} // namespace
-
 class WavefrontOBJ : public Mesh {
 public:
     explicit WavefrontOBJ(const PropertyList &props) {
@@ -194,4 +191,5 @@ public:
 
 NORI_REGISTER_CLASS(WavefrontOBJ, "obj");
 
+} // namespace
 } // namespace nori

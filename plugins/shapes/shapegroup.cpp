@@ -19,7 +19,9 @@
 #include <nori/instance.h>
 
 namespace nori {
+namespace {
 
 NORI_REGISTER_CLASS(ShapeGroup, "shapegroup");
 
+} // namespace
 } // namespace nori

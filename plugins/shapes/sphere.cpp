@@ -29,6 +29,7 @@
 #include <nori/warp.h>
 
 namespace nori {
+namespace {
 
 class Sphere : public Shape {
 public:
@@ -82,7 +83,7 @@ public:
         its.p = m_center + m_radius * n;
         its.pError = gammaBound(5) * Vector3f(m_center.cwiseAbs() + (m_radius * n).cwiseAbs());
         its.primIndex = 0;
-        its.shape = this;
+        its.shape = its.mesh = this;
 
         its.uv = uvOf(n);
         const float phi = std::atan2(n.y(), n.x());
@@ -186,4 +187,5 @@ private:
 
 NORI_REGISTER_CLASS(Sphere, "sphere");
 
+} // namespace
 } // namespace nori

@@ -25,7 +25,9 @@
 #include <nori/instance.h>
 
 namespace nori {
+namespace {
 
 NORI_REGISTER_CLASS(TMesh, "tmesh");
 
+} // namespace
 } // namespace nori

@@ -32,6 +32,7 @@
 #include <iostream>
 
 namespace nori {
+namespace {
 
 class ChiSquareTestPlugin : public Test {
 public:
@@ -54,6 +55,8 @@ public:
         m_options.sampleCount =
             sampleCount > 0 ? static_cast<size_t>(sampleCount) : 2 * resolution * resolution * 5000;
     }
+
+    using NoriObject::addChild;
 
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override {
         switch (child->getClassType()) {
@@ -164,4 +167,5 @@ private:
 
 NORI_REGISTER_CLASS(ChiSquareTestPlugin, "chi2test");
 
+} // namespace
 } // namespace nori

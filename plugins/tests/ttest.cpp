@@ -29,6 +29,7 @@
 #include <iostream>
 
 namespace nori {
+namespace {
 
 class StudentsTTest : public Test {
 public:
@@ -41,6 +42,8 @@ public:
             throw NoriException("ttest: 'sampleCount' must be at least 2, got {}", sampleCount);
         m_sampleCount = static_cast<size_t>(sampleCount);
     }
+
+    using NoriObject::addChild;
 
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override {
         if (child->getClassType() == EBSDF)
@@ -139,4 +142,5 @@ private:
 
 NORI_REGISTER_CLASS(StudentsTTest, "ttest");
 
+} // namespace
 } // namespace nori

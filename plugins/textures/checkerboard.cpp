@@ -18,6 +18,7 @@
 #include <algorithm>
 
 namespace nori {
+namespace {
 
 class Checkerboard : public Texture {
 public:
@@ -77,4 +78,5 @@ private:
 
 NORI_REGISTER_CLASS(Checkerboard, "checkerboard");
 
+} // namespace
 } // namespace nori

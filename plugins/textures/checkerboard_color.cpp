@@ -20,6 +20,7 @@
 #include <nori/texture.h>
 
 namespace nori {
+namespace {
 
 class CheckerboardColor : public Texture {
 public:
@@ -46,4 +47,5 @@ private:
 
 NORI_REGISTER_CLASS(CheckerboardColor, "checkerboard_color");
 
+} // namespace
 } // namespace nori

@@ -20,6 +20,7 @@
 #include <nori/texture.h>
 
 namespace nori {
+namespace {
 
 class CheckerboardFloat : public Texture {
 public:
@@ -48,4 +49,5 @@ private:
 
 NORI_REGISTER_CLASS(CheckerboardFloat, "checkerboard_float");
 
+} // namespace
 } // namespace nori

@@ -14,6 +14,7 @@
 #include <nori/texture.h>
 
 namespace nori {
+namespace {
 
 class ConstantTexture : public Texture {
 public:
@@ -33,4 +34,5 @@ private:
 
 NORI_REGISTER_CLASS(ConstantTexture, "constant");
 
+} // namespace
 } // namespace nori

@@ -36,6 +36,7 @@
 #include <vector>
 
 namespace nori {
+namespace {
 
 class ImageTexture : public Texture {
 public:
@@ -161,4 +162,5 @@ private:
 
 NORI_REGISTER_CLASS(ImageTexture, "image");
 
+} // namespace
 } // namespace nori

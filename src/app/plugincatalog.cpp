@@ -30,7 +30,7 @@ std::string pluginList(const std::string &kind) {
             current = type;
             out += fmt::format("{}{}:\n", out.empty() ? "" : "\n", NoriObject::classTypeName(type));
         }
-        std::string summary;
+        std::string summary = "(" + std::string(kUndocumentedHint) + ")";
         const std::string comment = docCommentOf(type, name);
         if (!comment.empty()) {
             try {
@@ -71,14 +71,18 @@ std::string pluginReference(const std::string &name) {
         out += fmt::format("{}{} ({}, {})\n\n", out.empty() ? "" : "\n", name,
                            NoriObject::classTypeName(type), shortSourcePath(entry.sourceFile));
         if (comment.empty()) {
-            out += "(this plugin's file has no doc comment)\n";
+            out += std::string(kUndocumentedHint) + ".\n";
             continue;
         }
         try {
             out += parsePluginDoc(comment).text + commonParametersText(type);
         } catch (const NoriException &error) {
-            throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
-                                error.what());
+            if (isShippedPlugin(type, name))
+                throw NoriException("{}: the doc comment of '{}': {}", entry.sourceFile, name,
+                                    error.what());
+            out += fmt::format("The comment its file starts with is no doc comment ({}); "
+                               "docs/nori2.md says how to write one.\n",
+                               error.what());
         }
     }
     return out;
@@ -92,7 +96,7 @@ std::string pluginsMarkdown() {
     for (const auto &[type, name] : NoriObjectFactory::registeredClasses()) {
         const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(type, name);
         const std::string comment = docCommentOf(type, name);
-        if (shortSourcePath(entry.sourceFile).rfind("plugins/", 0) != 0 || comment.empty())
+        if (!isShippedPlugin(type, name) || comment.empty())
             continue;
         if (type != current) {
             current = type;
