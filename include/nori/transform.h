@@ -22,6 +22,14 @@ public:
     /// Camera-to-world matrix placing the origin at `origin` looking at `target`;
     /// the camera looks along +z with +y up (Nori's convention).
     static Transform lookAt(const Point3f &origin, const Point3f &target, const Vector3f &up);
+    /// True when lookAt would throw because `up` is (nearly) parallel to target − origin.
+    static bool isUpParallelToView(const Point3f &origin, const Point3f &target,
+                                   const Vector3f &up);
+    /// What Nori 2's lookat makes of an `up` parallel to the view: its left = up × dir is
+    /// zero and Eigen's normalized() leaves a zero vector as it is, so the matrix has
+    /// columns (0, 0, dir, origin) and every camera direction d maps to d.z · dir. Course
+    /// references were computed with it; the inverse is the pseudo-inverse.
+    static Transform collapsedLookAt(const Point3f &origin, const Point3f &target);
 
     const Eigen::Matrix4f &getMatrix() const { return m_transform; }
     const Eigen::Matrix4f &getInverseMatrix() const { return m_inverse; }

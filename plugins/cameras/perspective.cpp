@@ -86,10 +86,14 @@ public:
             origin = Point3f(lens.x(), lens.y(), 0.0f);
             d = Vector3f(focus - origin).normalized();
         }
-        // The clip planes are planes z = const, so the ray's extent depends on d.z.
+        // The clip planes are planes z = const, so the ray's extent depends on d.z. The
+        // world direction is normalised, and the extent with it: toWorld may scale, or
+        // collapse (Nori 2's lookat with 'up' along the view; see Transform).
         const float invZ = 1.0f / d.z();
-        ray = Ray3f(m_cameraToWorld * origin, m_cameraToWorld * d, m_nearClip * invZ,
-                    m_farClip * invZ);
+        const Vector3f worldDirection = m_cameraToWorld * d;
+        const float length = worldDirection.norm();
+        ray = Ray3f(m_cameraToWorld * origin, worldDirection / length, m_nearClip * invZ * length,
+                    m_farClip * invZ * length);
         return Color3f(1.0f);
     }
 

@@ -2,6 +2,7 @@
 #include <nori/transform.h>
 
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <sstream>
 
 namespace nori {
@@ -45,14 +46,40 @@ Transform Transform::rotate(const Vector3f &axis, float angleDegrees) {
     return Transform(matrix, matrix.transpose());
 }
 
-Transform Transform::lookAt(const Point3f &origin, const Point3f &target, const Vector3f &up) {
-    Vector3f dir = target - origin;
+namespace {
+
+/// Below this length of up × dir (both unit vectors, so it is sin of their angle) the
+/// camera's left axis is rounding noise.
+constexpr float kMinLeftLength = 1e-6f;
+
+Vector3f viewDirection(const Point3f &origin, const Point3f &target) {
+    const Vector3f dir = target - origin;
     if (dir.norm() == 0.0f)
         throw NoriException("lookat: origin and target are the same point");
-    dir.normalize();
+    return dir.normalized();
+}
+
+} // namespace
+
+bool Transform::isUpParallelToView(const Point3f &origin, const Point3f &target,
+                                   const Vector3f &up) {
+    return up.normalized().cross(viewDirection(origin, target)).norm() < kMinLeftLength;
+}
+
+Transform Transform::collapsedLookAt(const Point3f &origin, const Point3f &target) {
+    Eigen::Matrix4f matrix = Eigen::Matrix4f::Zero();
+    matrix.col(2).head<3>() = viewDirection(origin, target);
+    matrix.col(3).head<3>() = origin;
+    matrix(3, 3) = 1.0f;
+    const Eigen::Matrix4f inverse = matrix.completeOrthogonalDecomposition().pseudoInverse();
+    return Transform(matrix, inverse);
+}
+
+Transform Transform::lookAt(const Point3f &origin, const Point3f &target, const Vector3f &up) {
+    const Vector3f dir = viewDirection(origin, target);
     Vector3f left = up.normalized().cross(dir);
-    if (left.norm() < 1e-6f)
-        throw NoriException("lookat: 'up' is parallel to the viewing direction");
+    if (left.norm() < kMinLeftLength)
+        throw NoriException("lookat: 'up' is zero or parallel to the viewing direction");
     left.normalize();
     Vector3f newUp = dir.cross(left);
 
