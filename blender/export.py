@@ -15,7 +15,8 @@ arguments = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 parser = argparse.ArgumentParser(prog="blender -b FILE.blend --python blender/export.py --")
 parser.add_argument("output", help="the scene file to write (meshes/ and textures/ beside it)")
 parser.add_argument("--spp", type=int, default=64, help="samples per pixel (default 64)")
-parser.add_argument("--integrator", default="path_mis")
+parser.add_argument("--integrator", default=None,
+                    help="default: path_mis, or volpath when the scene has volumes")
 parser.add_argument("--max-depth", type=int, default=-1,
                     help="the integrator's maxDepth (default: the integrator's own)")
 options = parser.parse_args(arguments)

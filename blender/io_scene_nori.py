@@ -9,6 +9,9 @@
 # Light units were measured against Cycles 3.4 renders of a white plane (see the README):
 # point Power P is the flux (I = P/4pi), spot I = P/4pi on its axis, sun Strength the
 # irradiance, area radiance P/(4A), emission shaders and the world radiance = strength.
+# Volumes (Principled Volume, Volume Scatter, Volume Absorption on a mesh) become the
+# mesh's interior homogeneous medium with Cycles' coefficients, inside a null BSDF when
+# the material has no surface shader; such scenes are rendered with volpath.
 
 bl_info = {
     "name": "Nori scene exporter",
@@ -69,14 +72,15 @@ def slug(name):
 class Exporter:
     """Writes one scene; `warnings` lists what could not be mapped."""
 
-    def __init__(self, context, filepath, samples=64, integrator="path_mis", max_depth=-1):
+    def __init__(self, context, filepath, samples=64, integrator=None, max_depth=-1):
         self.context = context
         self.scene = context.scene
         self.depsgraph = context.evaluated_depsgraph_get()
         self.filepath = os.path.abspath(filepath)
         self.folder = os.path.dirname(self.filepath)
         self.samples = samples
-        self.integrator = integrator
+        self.integrator = integrator  # None: path_mis, or volpath if there are volumes
+        self.has_media = False
         self.max_depth = max_depth
         self.warnings = []
         self.meshes = {}    # (mesh key, material index) -> OBJ path relative to the scene
@@ -94,7 +98,7 @@ class Exporter:
     # --- the scene -------------------------------------------------------------------
 
     def export(self):
-        integrator = ET.SubElement(self.root, "integrator", type=self.integrator)
+        integrator = ET.SubElement(self.root, "integrator", type=self.integrator or "path_mis")
         if self.max_depth >= 0:
             ET.SubElement(integrator, "integer", name="maxDepth", value=str(self.max_depth))
         sampler = ET.SubElement(self.root, "sampler", type="independent")
@@ -104,6 +108,12 @@ class Exporter:
         for instance in self.depsgraph.object_instances:
             self.export_instance(instance)
         self.export_placements()
+        if self.has_media:
+            if self.integrator is None:
+                integrator.set("type", "volpath")
+            elif self.integrator != "volpath":
+                self.warn("scene", f"has volumes, which integrator '{self.integrator}' "
+                                   "ignores (volpath renders them)")
         ET.indent(self.root, space="    ")
         header = "<?xml version=\"1.0\"?>\n<!-- Exported from Blender by blender/io_scene_nori.py -->\n"
         with open(self.filepath, "w", encoding="utf-8") as file:
@@ -184,6 +194,8 @@ class Exporter:
             self.constant_environment(world.color, 1.0)
             return
         output = world.node_tree.get_output_node("CYCLES")
+        if output and output.inputs["Volume"].is_linked:
+            self.warn(owner, "a world volume is not supported: ignored")
         links = output.inputs["Surface"].links if output else []
         if not links:
             return
@@ -332,8 +344,8 @@ class Exporter:
         """A geometry placed once becomes <mesh type="obj"> elements with their toWorld; one
         placed several times (linked duplicates, particle and collection instances) a
         shape group, written once, and an instance per placement, so that nori builds
-        its BVH once. Emissive geometry stays separate copies: nori's instances do not
-        emit."""
+        its BVH once. Emissive geometry and volumes stay separate copies: nori's
+        instances neither emit nor bound media."""
         for number, placements in enumerate(self.placements.values()):
             files, materials, _, owner = placements[0]
             group = None
@@ -343,7 +355,7 @@ class Exporter:
                     mesh = ET.SubElement(group, "mesh", type="obj")
                     ET.SubElement(mesh, "string", name="filename", value=path)
                     self.export_material(mesh, material, owner)
-                if group.find("mesh/emitter") is not None:
+                if group.find("mesh/emitter") is not None or group.find("mesh/medium") is not None:
                     group = None
             if group is not None:
                 self.root.append(group)
@@ -438,14 +450,17 @@ class Exporter:
                           value=format_numbers(material.diffuse_color[:3]))
             return
         output = material.node_tree.get_output_node("CYCLES")
+        has_volume = output is not None and self.export_volume(mesh, output, owner)
         links = output.inputs["Surface"].links if output else []
         if not links:
+            if has_volume:
+                # Cycles' boundary of a volume without a surface lets light pass unbent.
+                ET.SubElement(mesh, "bsdf", type="null")
+                return
             self.warn(owner, "has no surface shader: exported as black")
             bsdf = ET.SubElement(mesh, "bsdf", type="diffuse")
             ET.SubElement(bsdf, "color", name="albedo", value="0, 0, 0")
             return
-        if output.inputs["Volume"].is_linked:
-            self.warn(owner, "volume shaders are not exported yet (nori media are written by hand): ignored")
         if output.inputs["Displacement"].is_linked:
             self.warn(owner, "displacement is not supported: ignored")
         node = links[0].from_node
@@ -463,6 +478,50 @@ class Exporter:
             ET.SubElement(bsdf, "color", name="albedo", value="0.8, 0.8, 0.8")
             return
         handler(mesh, node, f"{owner}, node '{node.name}'")
+
+    def export_volume(self, mesh, output, owner):
+        """The shader behind the material output's Volume as the mesh's interior medium;
+        returns whether one was written. Cycles' coefficients (kernel/svm/closure.h):
+          Principled Volume  sigma_s = C d, sigma_a = max(1 - C, 0) max(1 - sqrt(A), 0) d
+                             (C the colour, A the absorption colour, d the density),
+                             Henyey-Greenstein phase with g = anisotropy;
+          Volume Scatter     sigma_s = C d, g = anisotropy;
+          Volume Absorption  sigma_a = (1 - C) d."""
+        links = output.inputs["Volume"].links
+        if not links:
+            return False
+        node = links[0].from_node
+        owner = f"{owner}, node '{node.name}'"
+        if node.type not in ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION"):
+            self.warn(owner, f"volume node ({node.type}) is not supported: ignored")
+            return False
+        color = self.value(node, "Color", owner)[:3]
+        density = max(self.value(node, "Density", owner), 0.0)
+        anisotropy = 0.0
+        if node.type == "PRINCIPLED_VOLUME":
+            absorption_color = self.value(node, "Absorption Color", owner)[:3]
+            sigma_s = [c * density for c in color]
+            sigma_a = [max(1 - c, 0) * max(1 - math.sqrt(max(a, 0)), 0) * density
+                       for c, a in zip(color, absorption_color)]
+            anisotropy = self.value(node, "Anisotropy", owner)
+            if self.value(node, "Emission Strength", owner) > 0 or \
+                    self.value(node, "Blackbody Intensity", owner) > 0:
+                self.warn(owner, "volume emission is not supported: ignored")
+        elif node.type == "VOLUME_SCATTER":
+            sigma_s, sigma_a = [c * density for c in color], [0.0] * 3
+            anisotropy = self.value(node, "Anisotropy", owner)
+        else:
+            sigma_s, sigma_a = [0.0] * 3, [max(1 - c, 0) * density for c in color]
+        medium = ET.SubElement(mesh, "medium", type="homogeneous", name="interior")
+        ET.SubElement(medium, "color", name="sigmaS", value=format_numbers(sigma_s))
+        ET.SubElement(medium, "color", name="sigmaA", value=format_numbers(sigma_a))
+        if anisotropy != 0:
+            # Cycles clamps g to [-0.999, 0.999] (kernel/closure/volume.h).
+            phase = ET.SubElement(medium, "phase", type="hg")
+            ET.SubElement(phase, "float", name="g",
+                          value=f"{min(max(anisotropy, -0.999), 0.999):.7g}")
+        self.has_media = True
+        return True
 
     def socket(self, node, name):
         if name in node.inputs:
@@ -647,8 +706,9 @@ def horizontal_fov(camera, width, height):
     return 2 * math.atan(math.tan(vertical / 2) * width / height)
 
 
-def export_scene(context, filepath, samples=64, integrator="path_mis", max_depth=-1):
-    """Exports the context's scene to filepath; returns the list of warnings."""
+def export_scene(context, filepath, samples=64, integrator=None, max_depth=-1):
+    """Exports the context's scene to filepath; returns the list of warnings. Without an
+    integrator: path_mis, or volpath when the scene has volumes."""
     return Exporter(context, filepath, samples, integrator, max_depth).export()
 
 

@@ -4,10 +4,14 @@
 # (its orientation), a point light and a spot light on a floor, a box with an Emission
 # shader, a glass box, and a camera with depth of field.
 import math
+import os
 import sys
 
 import bpy
-from mathutils import Vector
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from scene_tools import add_camera  # noqa: E402
+
 
 blend_file, sky_file = sys.argv[sys.argv.index("--") + 1:][:2]
 bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -82,16 +86,8 @@ spot.spot_size = math.radians(50)
 spot.spot_blend = 0.3
 add("Spot", spot, (2.5, -1.5, 3.0), (math.radians(20), 0, 0))
 
-camera = bpy.data.cameras.new("Camera")
-camera.lens = 24
+camera = add_camera(scene, 24, (0, -7, 2.2), (0, 0, 1.2), 192, 108)
 camera.dof.use_dof = True
 camera.dof.focus_distance = 7.0
 camera.dof.aperture_fstop = 8.0
-camera_object = add("Camera", camera, (0, -7, 2.2))
-direction = Vector((0, 0, 1.2)) - camera_object.location
-camera_object.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
-scene.camera = camera_object
-scene.render.resolution_x = 192
-scene.render.resolution_y = 108
-scene.render.resolution_percentage = 100
 bpy.ops.wm.save_as_mainfile(filepath=blend_file)

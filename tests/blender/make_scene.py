@@ -5,10 +5,14 @@
 # map, so it must warn), a sun, an area light above the camera's view, a world colour.
 # tests/blender/handwritten.xml states the same scene in nori's format by hand.
 import math
+import os
 import sys
 
 import bpy
-from mathutils import Vector
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from scene_tools import add_camera  # noqa: E402
+
 
 blend_file, checker_file = sys.argv[sys.argv.index("--") + 1:][:2]
 bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -121,19 +125,7 @@ world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.05, 0.07,
 world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
 scene.world = world
 
-camera = bpy.data.cameras.new("Camera")
-camera.lens = 35
-camera.sensor_width = 36
-camera.sensor_fit = "AUTO"
-camera_object = bpy.data.objects.new("Camera", camera)
-camera_object.location = (0, -7, 5)
-direction = Vector((0, 0, 0.5)) - camera_object.location
-camera_object.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
-scene.collection.objects.link(camera_object)
-scene.camera = camera_object
-scene.render.resolution_x = 160
-scene.render.resolution_y = 120
-scene.render.resolution_percentage = 100
+add_camera(scene, 35, (0, -7, 5), (0, 0, 0.5), 160, 120)
 
 bpy.ops.wm.save_as_mainfile(filepath=blend_file)
 print("saved", blend_file)

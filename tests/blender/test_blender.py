@@ -14,13 +14,18 @@ Usage: test_blender.py BLENDER NORI IMGTOOL WORKDIR
    hand-written scene with different seeds differ from each other (noise);
 4. Cycles renders the .blend file at matching settings (render_cycles.py): per object
    (masks from nori's position AOV), mean luminance must agree within the tolerances of
-   TOLERANCES, which say why they are not zero.
+   TOLERANCES, which say why they are not zero;
+5. a second scene (make_lights_scene.py): environment map, point, spot, emission, glass
+   and depth of field, per block against Cycles;
+6. a third scene (make_volume_scene.py): a Principled Volume, a Volume Absorption inside
+   glass and a Volume Scatter, per region against Cycles within 4 standard errors.
 """
 import math
 import os
 import struct
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 
 BLENDER, NORI, IMGTOOL, WORKDIR = sys.argv[1:5]
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -190,21 +195,27 @@ def luminance(c):
     return 0.212671 * c[0] + 0.715160 * c[1] + 0.072169 * c[2]
 
 
+def masked_pixels(labels):
+    """(x, y, label) of the pixels inside an object's mask: labelled, with all 8
+    neighbours on the same object (edges mix objects, and two renderers' pixel filters
+    differ)."""
+    for y in range(1, len(labels) - 1):
+        for x in range(1, len(labels[0]) - 1):
+            label = labels[y][x]
+            if label is not None and all(labels[y + dy][x + dx] == label
+                                         for dy in (-1, 0, 1) for dx in (-1, 0, 1)):
+                yield x, y, label
+
+
 def mask_sums(image, reference):
     """Per object: sums of the luminance of `image` and of `reference`, and the pixel
-    count, over the pixels inside its mask: all 8 neighbours on the same object (edges mix
-    objects, and two renderers' pixel filters differ)."""
+    count, over the pixels inside its mask."""
     sums = {}
-    for y in range(1, height - 1):
-        for x in range(1, width - 1):
-            label = labels[y][x]
-            if label is None or any(labels[y + dy][x + dx] != label
-                                    for dy in (-1, 0, 1) for dx in (-1, 0, 1)):
-                continue
-            entry = sums.setdefault(label, [0.0, 0.0, 0])
-            entry[0] += luminance(image[y][x])
-            entry[1] += luminance(reference[y][x])
-            entry[2] += 1
+    for x, y, label in masked_pixels(labels):
+        entry = sums.setdefault(label, [0.0, 0.0, 0])
+        entry[0] += luminance(image[y][x])
+        entry[1] += luminance(reference[y][x])
+        entry[2] += 1
     return sums
 
 
@@ -336,4 +347,147 @@ check(open(turned).read() != scene_text, "the control scene has its envmap turne
 _, _, unturned_rgb = layer_as_pfm(render(turned, "lights-unturned"), None, "unturned")
 check(any(f.startswith("sky") for f in block_failures(unturned_rgb)),
       "negative control: an environment map a quarter turn off is caught")
+
+# --- 6: the third scene: volumes (Principled Volume, Volume Absorption in glass, Volume
+# Scatter) -----------------------------------------------------------------------------
+blend = os.path.join(WORKDIR, "volumes.blend")
+run(BLENDER, "-b", "--factory-startup", "--python", os.path.join(HERE, "make_volume_scene.py"),
+    "--", blend, what="make_volume_scene.py")
+exported = os.path.join(WORKDIR, "volumes-export", "volumes.xml")
+output = run(BLENDER, "-b", blend, "--python", EXPORTER, "--", exported, "--spp", str(SPP),
+             what="blender/export.py")
+check("(0 warnings)" in output, "the volume scene exports without warnings")
+scene_text = open(exported).read()
+check('<integrator type="volpath"' in scene_text and scene_text.count("<medium") == 3 and
+      scene_text.count('<bsdf type="null"') == 2,
+      "three interior media, two in null boundaries, rendered by volpath")
+# Cycles' coefficients of make_volume_scene.py's media (Blender stores its inputs as
+# 32-bit floats, so they are compared to 1e-6): the fog's Principled Volume sigma_s = C d
+# and sigma_a = max(1 - C, 0) max(1 - sqrt(A), 0) d, C = (0.9, 0.7, 0.5),
+# A = (0.3, 0.5, 0.8), d = 1.2; the tinted glass's Volume Absorption sigma_a = (1 - C) d,
+# C = (0.4, 0.7, 0.9), d = 1.5; the haze's Volume Scatter sigma_s = C d, C = (0.6, 0.8,
+# 0.9), d = 0.8.
+media = ET.fromstring(scene_text).findall("mesh/medium")
+coefficients = {(m.find("color[@name='sigmaS']").get("value"),
+                 m.find("color[@name='sigmaA']").get("value"),
+                 m.find("phase/float").get("value") if m.find("phase") is not None else "0")
+                for m in media}
+
+
+def close(text, expected):
+    values = [float(v) for v in text.split(",")]
+    return len(values) == len(expected) and all(abs(v - e) <= 1e-6 * max(1, abs(e))
+                                                for v, e in zip(values, expected))
+
+
+EXPECTED_MEDIA = [
+    ([c * 1.2 for c in (0.9, 0.7, 0.5)],
+     [(1 - c) * (1 - math.sqrt(a)) * 1.2 for c, a in zip((0.9, 0.7, 0.5), (0.3, 0.5, 0.8))],
+     [0.5]),
+    ([0.0] * 3, [(1 - c) * 1.5 for c in (0.4, 0.7, 0.9)], [0.0]),
+    ([c * 0.8 for c in (0.6, 0.8, 0.9)], [0.0] * 3, [-0.3]),
+]
+check(all(any(close(s, es) and close(a, ea) and close(g, eg) for s, a, g in coefficients)
+          for es, ea, eg in EXPECTED_MEDIA),
+      f"the media carry Cycles' coefficients and anisotropies: {sorted(coefficients)}")
+
+
+def with_seed(text, seed, name):
+    """The exported scene with its sampler seeded by `seed`, written beside it."""
+    path = exported.replace(".xml", f"-{name}.xml")
+    with open(path, "w") as file:
+        file.write(text.replace('<sampler type="independent">',
+                                f'<sampler type="independent"><integer name="seed" '
+                                f'value="{seed}"/>'))
+    return path
+
+
+nori_volumes = [render(with_seed(scene_text, seed, f"seed{seed}"), f"volumes-seed{seed}")
+                for seed in (1, 2)]
+cycles_volumes = []
+for seed in (1, 2):
+    cycles_volumes.append(os.path.join(WORKDIR, f"volumes-cycles-seed{seed}.exr"))
+    run(BLENDER, "-b", blend, "--python", os.path.join(HERE, "render_cycles.py"), "--",
+        cycles_volumes[-1], str(SPP), str(seed), what="Cycles")
+
+VOLUME_BOXES = {"Fog": ((-1.3, 0.0, 1.1), 1.6), "Tinted": ((1.2, 0.6, 0.9), 1.2),
+                "Haze": ((0.3, 2.4, 1.0), 1.4)}  # centre and edge, as make_volume_scene.py
+
+
+def volume_object_at(p):
+    """The box whose surface holds the y-up point p (the camera ray's first hit, the null
+    boundary included), "Floor", "Sky" where the ray escaped, or None."""
+    if p == (0.0, 0.0, 0.0):
+        return "Sky"
+    x, y, z = p[0], -p[2], p[1]
+    for name, (centre, edge) in VOLUME_BOXES.items():
+        if max(abs(v - c) for v, c in zip((x, y, z), centre)) <= edge / 2 + 1e-3:
+            return name
+    return "Floor" if abs(z) < 1e-3 else None
+
+
+width, height, positions = layer_as_pfm(nori_volumes[0], "position", "volumes-position")
+labels = [[volume_object_at(positions[y][x]) for x in range(width)] for y in range(height)]
+
+
+def region_means(first, second):
+    """Per region (the pixels inside its mask): the mean luminance of the
+    two renders' average, and that mean's variance, from the renders' own noise: for
+    independent renders a, b of a pixel, E[(a - b)^2] / 4 is the variance of (a + b) / 2,
+    and pixels are independent of each other."""
+    a = layer_as_pfm(first, None, os.path.basename(first))[2]
+    b = layer_as_pfm(second, None, os.path.basename(second))[2]
+    sums = {}
+    for x, y, label in masked_pixels(labels):
+        la, lb = luminance(a[y][x]), luminance(b[y][x])
+        entry = sums.setdefault(label, [0.0, 0.0, 0])
+        entry[0] += (la + lb) / 2
+        entry[1] += (la - lb) ** 2 / 4
+        entry[2] += 1
+    return {label: (total / n, squares / n ** 2, n) for label, (total, squares, n) in sums.items()}
+
+
+# Both renderers are unbiased for these media (analytic transmittance, HG phase), so the
+# region means may differ by noise only: |difference| <= 4 standard errors of it (z = 4:
+# p = 6e-5 per region, 3e-4 over the five). Each line says the smallest relative bias the
+# comparison can see (4 standard errors of the mean).
+cycles_means = region_means(*cycles_volumes)
+
+
+def volume_failures(nori_means, regions=("Fog", "Tinted", "Haze", "Floor", "Sky")):
+    failures = []
+    for name in regions:
+        mean, variance, count = nori_means.get(name, (0.0, 0.0, 0))
+        reference, reference_variance, _ = cycles_means.get(name, (0.0, 0.0, 0))
+        check(count >= 30, f"{name}: {count} pixels inside its mask")
+        # Noise, and the images' float32 rounding (unit roundoff 2^-24 of each renderer's
+        # value), which is all the error of a region without noise, like the sky.
+        rounding = 2.0 ** -24 * (abs(mean) + abs(reference))
+        error = math.sqrt(variance + reference_variance + rounding ** 2)
+        z = (mean - reference) / error
+        message = (f"{name}: nori {mean:.7f}, Cycles {reference:.7f}, z = {z:+.2f} "
+                   f"(sees a bias of {4 * error / reference:.2%})")
+        print(("  " if abs(z) <= 4 else "  MISMATCH: ") + message, flush=True)
+        if abs(z) > 4:
+            failures.append(message)
+    return failures
+
+
+failures = volume_failures(region_means(*nori_volumes))
+check(not failures, f"every region of the volume scene agrees with Cycles: {failures}")
+# Negative controls, two mapping mistakes: the fog's phase function left isotropic, and
+# the Volume Absorption's colour taken as its absorption instead of 1 - colour.
+isotropic = scene_text.replace('<phase type="hg">\n                <float name="g" value="0.5" />'
+                               '\n            </phase>', "")
+check(isotropic != scene_text, "the control scene has the fog's phase function removed")
+controls = [render(with_seed(isotropic, seed, f"isotropic{seed}"), f"volumes-isotropic{seed}")
+            for seed in (1, 2)]
+check(volume_failures(region_means(*controls), ["Fog"]),
+      "negative control: the fog without its anisotropy is caught")
+inverted = scene_text.replace('name="sigmaA" value="0.9, 0.45, 0.15"',
+                              'name="sigmaA" value="0.6, 1.05, 1.35"')
+controls = [render(with_seed(inverted, seed, f"inverted{seed}"), f"volumes-inverted{seed}")
+            for seed in (1, 2)]
+check(volume_failures(region_means(*controls), ["Tinted"]),
+      "negative control: the absorption colour taken as the coefficient is caught")
 print("all Blender exporter checks passed")
