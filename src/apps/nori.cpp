@@ -1,4 +1,5 @@
 // The `nori` program: renders a scene file to EXR + PNG, or runs a test file.
+#include "app/buildinfo.h"
 #include "app/cli.h"
 #include "app/plugincatalog.h"
 #include "app/preview.h"
@@ -563,7 +564,7 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
 int run(Options &options) {
     NoriObjectFactory::checkRegistry();
     if (options.version) {
-        fmt::print("nori {}\n", NORI_VERSION);
+        fmt::print("nori {}\n{}\n", NORI_VERSION, buildDescription());
         return 0;
     }
     if (options.listPlugins) {
