@@ -122,6 +122,29 @@ TEST_CASE("HDR and EXR decode to linear floats", "[imagefile]") {
         }
 }
 
+TEST_CASE("HDR reads values of 8-bit mantissa and shared exponent exactly", "[imagefile]") {
+    // Each pixel's channels are m·2^k with m < 256 for the exponent of the largest one: RGBE
+    // stores them without rounding, and decoding as m·2^(e−136) (stb_image, pbrt-v4,
+    // Walter's rgbe.c) gives them back bit for bit. Ward's (m + 0.5) reads 2.0 as 2.0078.
+    const std::vector<float> rgb = {2.0f, 1.0f, 0.5f, 0.75f,       0.5f,        0.25f,
+                                    3.0f, 3.0f, 3.0f, 100.0f,      36.0f,       0.0f,
+                                    0.0f, 0.0f, 0.0f, 1.0f / 1024, 1.0f / 2048, 0.0f};
+    const ImageFile hdr = decodeImageFile(hdrBytes(rgb, 3, 2), "exact.hdr");
+    for (int i = 0; i < 3 * 2; ++i)
+        for (int c = 0; c < 3; ++c) {
+            CAPTURE(i, c);
+            CHECK(hdr.pixels(i / 3, i % 3)[c] == rgb[3 * i + c]);
+        }
+    // The bytes themselves: (128, 64, 32, 130) is (2, 1, 0.5); exponent 0 is black.
+    const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n";
+    const ImageFile bytes =
+        decodeImageFile(header + std::string("\x80\x40\x20\x82\xff\xff\xff\x00", 8), "b.hdr");
+    CHECK(bytes.pixels(0, 0)[0] == 2.0f);
+    CHECK(bytes.pixels(0, 0)[1] == 1.0f);
+    CHECK(bytes.pixels(0, 0)[2] == 0.5f);
+    CHECK(bytes.pixels(0, 1)[0] == 0.0f);
+}
+
 TEST_CASE("Images larger than the limit are refused before decoding", "[imagefile]") {
     CHECK_THAT(errorOf([] { decodeImageFile(pngBytes(64, 64), "big.png", 1000); }),
                Contains("PNG image 'big.png' has an unsupported size 64x64"));
