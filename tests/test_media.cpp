@@ -502,6 +502,36 @@ TEST_CASE("volpath: single scattering in a slab matches its closed form", "[medi
             .passed);
 }
 
+TEST_CASE("volpath: a slab 10^4 wide scatters light as one 100 wide", "[media][ttest]") {
+    // Multiple scattering in a slab z in [−1, 0] lit by a directional light 60° off its
+    // normal, seen along −z: light that travels 50 sideways is exp(−25) of it, so the box's
+    // width must not matter. Paths scattering within 1 of a 10⁴-unit face in a grazing
+    // direction missed it 8 % of the time (the triangle test's t > 0 bound grows with the
+    // triangle) and stayed in the medium: this slab read 1.4 % darker before hits near t = 0
+    // were re-tested in double.
+    auto slab = [](float halfWidth) {
+        return pinholeScene(fmt::format(R"(
+            <mesh type="obj"><string name="filename" value="box.obj"/>
+                <transform name="toWorld"><scale value="{0}, {0}, 0.5"/><translate value="0, 0, -0.5"/></transform>
+                <medium type="homogeneous" name="interior"><color name="sigmaS" value="0.9"/>
+                    <color name="sigmaA" value="0.1"/><phase type="hg"><float name="g" value="0.3"/></phase></medium>
+            </mesh>
+            <emitter type="directional"><vector name="direction" value="-0.866, 0, -0.5"/>
+                <color name="irradiance" value="10"/></emitter>)",
+                                        halfWidth));
+    };
+    const RunningMoments narrow = estimatePixel(*slab(50.0f), 2000000);
+    const RunningMoments wide = estimatePixel(*slab(5000.0f), 2000000);
+    double t;
+    INFO("100 wide " << narrow.mean << ", 10^4 wide " << wide.mean);
+    CHECK(samplesAgree(narrow, wide, t));
+    INFO("t = " << t);
+    // Negative control: a 1 % brighter wide slab is told apart.
+    RunningMoments brighter = wide;
+    brighter.mean *= 1.01;
+    CHECK_FALSE(samplesAgree(narrow, brighter, t));
+}
+
 TEST_CASE("volpath equals path_mis on a scene without media", "[media][ttest]") {
     const std::string content = R"(
         <mesh type="sphere"><point name="center" value="0, 3, 0"/><float name="radius" value="0.5"/>

@@ -1,6 +1,9 @@
 // The watertight ray–triangle test of Woop, Benthin and Wald ("Watertight Ray/Triangle
 // Intersection", JCGT 2(1), 2013), with PBR 4th ed. §6.5.3's conservative t > 0 bound.
 // Rays that hit an edge or vertex shared by two triangles hit at least one of them.
+// A hit within the float bound of t = 0 is re-tested in double, where the bound is 2²⁹
+// times smaller: the bound grows with the triangle's size, and a ray spawned 0.1 from a
+// 10⁴-unit triangle would otherwise miss it (and a path leave the medium it bounds).
 #pragma once
 
 #include <nori/ray.h>
@@ -26,6 +29,13 @@ struct WatertightRay {
         sz = 1.0f / ray.d[kz];
     }
 };
+
+/// For a hit whose float t is positive but within its error bound of 0: t recomputed in
+/// double with the same bound in double (PBR 4th ed. §6.8.7 with ε = 2⁻⁵³). Returns true
+/// and sets t if t is provably positive, false if it is not (the ray starts on or behind
+/// the triangle's plane as far as any precision can tell). Out of line: rarely taken.
+bool triangleDistanceInDouble(const WatertightRay &ray, const Point3f &p0, const Point3f &p1,
+                              const Point3f &p2, float &t);
 
 /// Intersects the ray with triangle (p0, p1, p2) within [mint, maxt]. On a hit, sets
 /// t and the barycentrics (b1, b2) of p1 and p2 and returns true.
@@ -64,7 +74,7 @@ struct WatertightRay {
         return false;
 
     const float invDet = 1.0f / det;
-    const float tHit = tScaled * invDet;
+    float tHit = tScaled * invDet;
 
     // Reject hits whose t is not provably positive (PBR 4th ed. §6.8.7).
     const float maxZt = std::max({std::abs(sAz), std::abs(sBz), std::abs(sCz)});
@@ -77,7 +87,9 @@ struct WatertightRay {
     const float maxE = std::max({std::abs(e0), std::abs(e1), std::abs(e2)});
     const float deltaT =
         3.0f * (gammaBound(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::abs(invDet);
-    if (tHit <= deltaT || tHit < ray.mint || tHit > ray.maxt)
+    if (tHit <= deltaT && !triangleDistanceInDouble(ray, p0, p1, p2, tHit))
+        return false;
+    if (tHit < ray.mint || tHit > ray.maxt)
         return false;
 
     t = tHit;

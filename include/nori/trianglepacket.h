@@ -3,8 +3,9 @@
 // shear into ray space, edge functions, the sign test, the t range, the division and PBR
 // 4th ed.'s t > 0 error bound — computed with the same floating-point operations in the
 // same order as the scalar test, lane by lane, so a lane's t and barycentrics equal the
-// scalar test's bit for bit. A lane whose edge function is zero is left undecided, since
-// the scalar test re-evaluates it in double. This needs the compiler to keep each
+// scalar test's bit for bit. A lane whose edge function is zero, or whose t is positive
+// but within its error bound, is left undecided, since the scalar test re-evaluates it in
+// double. This needs the compiler to keep each
 // operation as written: the project builds with -ffp-contract=off (no fused a·b + c).
 #pragma once
 
@@ -61,7 +62,8 @@ static_assert(sizeof(TrianglePacket) == 192 && offsetof(TrianglePacket, shapeInd
 /// 4 + i).
 template <int Lanes> struct PacketHits {
     int hit;       ///< bit i: triangle i is hit within [mint, maxt], at t[i]
-    int undecided; ///< bit i: an edge function is zero; the scalar test decides in double
+    int undecided; ///< bit i: an edge function is zero or t is within its error bound of 0;
+                   ///< the scalar test decides in double
     alignas(32) float t[Lanes], b1[Lanes], b2[Lanes];
 };
 
@@ -156,12 +158,13 @@ private:
             S::mul(deltaZ, maxE));
         const Float deltaT =
             S::mul(S::mul(S::broadcast(3.0f), errorSum), S::andNot(signBit, invDet));
+        const Float tooClose = S::bitAnd(accept, S::lessEqualMask(tHit, deltaT));
         accept = S::bitAnd(accept, S::greater(tHit, deltaT));
         accept = S::bitAnd(accept, S::greaterEqual(tHit, S::broadcast(ray.mint)));
         accept = S::bitAnd(accept, S::lessEqualMask(tHit, maxt));
 
         PacketHits<Lanes> hits;
-        hits.undecided = S::bits(anyZero);
+        hits.undecided = S::bits(S::bitOr(anyZero, tooClose));
         hits.hit = S::bits(accept) & ~hits.undecided;
         S::store(hits.t, tHit);
         S::store(hits.b1, S::mul(e1, invDet));
