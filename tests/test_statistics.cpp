@@ -235,6 +235,17 @@ TEST_CASE("DiscretePDF samples each entry with its probability", "[statistics][d
                              wrong.pValue);
     CHECK_FALSE(wrong.passed);
 
+    // Zero weights after the last positive one are never drawn, not even by the largest u
+    // below 1: w·(1/w) is 1 − 2⁻²⁴ for w = 1.85, and normalising by that product left the
+    // trailing entries that sliver of probability.
+    DiscretePDF trailing;
+    for (float w : {0.0f, 1.85f, 0.0f, 0.0f})
+        trailing.append(w);
+    trailing.normalize();
+    CHECK(trailing.sample(1.0f - 0x1p-24f) == 1);
+    CHECK(trailing[1] == 1.0f);
+    CHECK(trailing[3] == 0.0f);
+
     DiscretePDF empty;
     empty.append(0.0f);
     CHECK_THAT(errorOf([&] { empty.normalize(); }), Contains("cannot normalise"));

@@ -82,6 +82,10 @@ public:
 
     /// A point (x, y) in [0,1)² with density pdf(x, y).
     Point2f sampleContinuous(const Point2f &u, float &pdf) const;
+    /// The same, and the cell (column, row) it was drawn in. The point's coordinates can
+    /// round onto the cell's far edge, where floor(x·width) names the next cell; callers
+    /// that map the point further use the cell to stay in it.
+    Point2f sampleContinuous(const Point2f &u, float &pdf, Vector2i &cell) const;
     float pdf(const Point2f &p) const;
 
 private:

@@ -72,13 +72,33 @@ public:
             return eval(lRec) / lRec.pdf;
         }
         float uvPdf;
-        const Point2f uv = m_distribution.sampleContinuous(sample, uvPdf);
-        const float theta = uv.y() * kPi, phi = uv.x() * 2.0f * kPi;
-        const float sinTheta = std::sin(theta);
-        if (uvPdf <= 0.0f || sinTheta <= 0.0f)
+        Vector2i texel;
+        Point2f uv = m_distribution.sampleContinuous(sample, uvPdf, texel);
+        if (uvPdf <= 0.0f)
             return Color3f(0.0f);
-        const Vector3f local(std::sin(phi) * sinTheta, std::cos(theta), -std::cos(phi) * sinTheta);
-        lRec.wi = Vector3f(m_toWorld * local).normalized();
+        // The direction must read back as the texel it was drawn in: eval() and pdf() find
+        // a direction's texel from it, and one that rounds into a neighbour would be
+        // weighted by the neighbour's radiance over this texel's density (a sun texel's
+        // edge samples lost its light; a sky texel's beside the sun were fireflies). A
+        // sample whose round trip lands next door moves toward the texel's centre, by a
+        // distance that doubles from a millionth of the texel; the density moves by as
+        // much, far below any estimate's noise.
+        const Bitmap &image = m_mipmap->level(0);
+        const Point2f centre((texel.x() + 0.5f) / float(image.width()),
+                             (texel.y() + 0.5f) / float(image.height()));
+        float sinTheta = 0.0f;
+        for (float pull = 1e-6f;; pull *= 2.0f) {
+            const float theta = uv.y() * kPi, phi = uv.x() * 2.0f * kPi;
+            sinTheta = std::sin(theta);
+            const Vector3f local(std::sin(phi) * sinTheta, std::cos(theta),
+                                 -std::cos(phi) * sinTheta);
+            lRec.wi = Vector3f(m_toWorld * local).normalized();
+            if (sinTheta > 0.0f && texelOf(toUV(lRec.wi)) == texel)
+                break;
+            if (pull > 0.5f)
+                return Color3f(0.0f);
+            uv += pull * (centre - uv);
+        }
         lRec.pdf = uvPdf / (2.0f * kPi * kPi * sinTheta);
         m_scene.placeBeyond(lRec); // a point beyond the scene, for the shadow ray
         return eval(lRec) / lRec.pdf;
@@ -160,15 +180,26 @@ private:
         m_integral = m_scale * integral * (2.0f * kPi / float(width));
     }
 
-    /// (u, v) of a world direction: θ from the frame's +y, φ from its −z toward +x.
+    /// (u, v) of a world direction: θ from the frame's +y, φ from its −z toward +x. θ by
+    /// atan2 of the horizontal length and the height: acos(y) loses half its digits near
+    /// the poles (a float y within 6e-8 of 1 leaves θ uncertain by 3.5e-4).
     Point2f toUV(const Vector3f &world) const {
         const Vector3f local = Vector3f(m_toLocal * world).normalized();
-        const float theta = std::acos(std::clamp(local.y(), -1.0f, 1.0f));
+        const float theta = std::atan2(std::hypot(local.x(), local.z()), local.y());
         float phi = std::atan2(local.x(), -local.z());
         if (phi < 0.0f)
             phi += 2.0f * kPi;
         return Point2f(std::min(phi * kInvTwoPi, 1.0f - 1e-7f),
                        std::min(theta * kInvPi, 1.0f - 1e-7f));
+    }
+
+    /// The texel of level 0 that (u, v) in [0, 1)² falls in, as nearest() and the
+    /// distribution's pdf() find it.
+    Vector2i texelOf(const Point2f &uv) const {
+        const Bitmap &image = m_mipmap->level(0);
+        return Vector2i(
+            std::min(static_cast<int>(uv.x() * float(image.width())), image.width() - 1),
+            std::min(static_cast<int>(uv.y() * float(image.height())), image.height() - 1));
     }
 
     std::string m_filename;

@@ -23,8 +23,11 @@ float DiscretePDF::normalize() {
         throw NoriException("DiscretePDF: cannot normalise {} entries that sum to {}", size(),
                             m_sum);
     m_normalization = 1.0f / m_sum;
+    // Divided, not multiplied by the reciprocal: w·(1/w) can round to 1 − 2⁻²⁴, which gave
+    // the zero-weight entries after the last positive one that sliver of probability (an
+    // environment map drew 6·10⁻⁸ of its samples in black texels). w/w is exactly 1.
     for (size_t i = 1; i < m_cdf.size(); ++i)
-        m_cdf[i] *= m_normalization;
+        m_cdf[i] /= m_sum;
     m_cdf.back() = 1.0f;
     m_normalized = true;
     return m_sum;
@@ -105,12 +108,18 @@ Distribution2D::Distribution2D(const std::vector<float> &weights, size_t width, 
 }
 
 Point2f Distribution2D::sampleContinuous(const Point2f &u, float &pdf) const {
+    Vector2i cell;
+    return sampleContinuous(u, pdf, cell);
+}
+
+Point2f Distribution2D::sampleContinuous(const Point2f &u, float &pdf, Vector2i &cell) const {
     float marginalPdf, conditionalPdf;
     size_t row, column;
     const float y = m_marginal.sampleContinuous(u.y(), marginalPdf, row);
     const float x = m_conditionals[row].sampleContinuous(u.x(), conditionalPdf, column);
     // p(x, y) = p(y) · p(x | y).
     pdf = marginalPdf * conditionalPdf;
+    cell = Vector2i(static_cast<int>(column), static_cast<int>(row));
     return Point2f(x, y);
 }
 
