@@ -190,8 +190,15 @@ TEST_CASE("Wide open, the root-mean-square spot of a point in focus is under a p
 
 TEST_CASE("Exit-pupil sampling loses far fewer rays than sampling the rear element",
           "[camera][realistic]") {
+    // The fisheye loses more toward its exit pupil (17.8 %) than the others: off axis its
+    // pupil narrows to a cat's eye (1.4 × 5.5 mm at 13 mm off axis, against 6 mm across on
+    // axis), which the tabulated ellipse bounds loosely. That is the ellipse's fit to the
+    // pupil's shape, not the tabulation's resolution: 1024 radii of 32768 rays each,
+    // instead of 64 of 8192, still lose 13.5 % (measured with ExitPupil's own arguments).
+    // Its bound is the comparison with sampling the rear element, which it meets.
     const Eigen::Vector2d film(kFilmWidth, kFilmWidth * 2.0 / 3.0);
-    for (const char *file : {"dgauss.50mm.dat", "wide.22mm.dat"}) {
+    for (const char *file : {"dgauss.50mm.dat", "wide.22mm.dat", "fisheye.10mm.dat"}) {
+        const bool fisheye = std::string(file) == "fisheye.10mm.dat";
         LensSystem lens(readLensFile(lensPath(file)), 0.0, file);
         lens.focusAt(4.0);
         const ExitPupil pupil(lens, 0.5 * film.norm());
@@ -199,9 +206,15 @@ TEST_CASE("Exit-pupil sampling loses far fewer rays than sampling the rear eleme
         const RayLoss without = measureRayLoss(lens, nullptr, film, 1 << 16);
         INFO(file << ": " << 100.0 * withPupil.blocked << "% blocked with the exit pupil, "
                   << 100.0 * without.blocked << "% without");
-        CHECK(withPupil.blocked < 0.15);
+        if (!fisheye)
+            CHECK(withPupil.blocked < 0.15);
         CHECK(withPupil.blocked < without.blocked / 3.0);
-        CHECK(withPupil.unlit == 0.0); // both lenses cover the film
+        // The double Gauss and the wide angle cover the film; the fisheye's image circle
+        // leaves its corners dark.
+        if (fisheye)
+            CHECK(withPupil.unlit > 0.1);
+        else
+            CHECK(withPupil.unlit == 0.0);
     }
 }
 
