@@ -231,6 +231,68 @@ TEST_CASE("Adaptive sampling spends samples where the noise is", "[render][adapt
     CHECK(result.samplesTaken < 1024u * 1200u / 2);
 }
 
+TEST_CASE("Adaptive sampling leaves the image unbiased", "[render][adaptive][ttest]") {
+    // A floor lit by a sphere light that only BSDF sampling finds (path_mats): one sample
+    // in 16 sees it, so many pixels see no light in their first 16 samples. Stopped on
+    // those samples (mean 0, variance 0) they stayed black; stopped on the separate
+    // decision samples, the image samples' mean is unbiased. Sixteen renders of 32×32
+    // pixels each way (seeds apart), their image means compared by Welch's t-test at 1 %.
+    auto render = [](int seed, const std::string &samplerExtra, int spp) {
+        auto scene = loadScene(fmt::format(R"(<scene>
+            <integrator type="path_mats"/>
+            <sampler type="independent"><integer name="sampleCount" value="{}"/>
+                <integer name="seed" value="{}"/>{}</sampler>
+            <camera type="perspective"><float name="fov" value="40"/>
+                <integer name="width" value="32"/><integer name="height" value="32"/>
+                <transform name="toWorld"><lookat origin="0,3,3" target="0,0,0"/></transform>
+                <rfilter type="box"/>
+            </camera>
+            <mesh type="sphere"><point name="center" value="0,-1000,0"/><float name="radius" value="1000"/></mesh>
+            <mesh type="sphere"><point name="center" value="0,2,0"/><float name="radius" value="0.5"/>
+                <emitter type="area"><color name="radiance" value="10"/></emitter></mesh>
+        </scene>)",
+                                           spp, seed, samplerExtra));
+        RenderOptions options = quietOptions(2);
+        options.aovs = {AOV::SampleCount};
+        return renderScene(*scene, options);
+    };
+    auto imageMean = [](const Bitmap &image) {
+        double sum = 0.0;
+        for (int y = 0; y < image.height(); ++y)
+            for (int x = 0; x < image.width(); ++x)
+                sum += image(y, x).getLuminance();
+        return sum / double(image.width() * image.height());
+    };
+    RunningMoments adaptive, plain;
+    double fewest = 1e9, most = 0.0;
+    for (int seed = 0; seed < 16; ++seed) {
+        const RenderResult result = render(seed, R"(<float name="maxTolerance" value="0.1"/>
+            <integer name="minSamples" value="16"/>)",
+                                           1024);
+        adaptive.add(imageMean(result.image));
+        const Bitmap counts = result.layers.layer("sampleCount");
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) {
+                fewest = std::min(fewest, double(counts(y, x).r()));
+                most = std::max(most, double(counts(y, x).r()));
+            }
+        plain.add(imageMean(render(100 + seed, "", 64).image));
+    }
+    const double standardError =
+        std::sqrt(adaptive.variance() / adaptive.count + plain.variance() / plain.count);
+    const double t = (adaptive.mean - plain.mean) / standardError;
+    INFO("adaptive " << adaptive.mean << ", plain " << plain.mean << ", standard error "
+                     << standardError << ", t = " << t << "; samples per pixel " << fewest << " to "
+                     << most);
+    CHECK(2.0 * (1.0 - studentTCdf(std::abs(t), 15.0)) > 0.01);
+    // It adapts: some pixels stop at minSamples, others run on.
+    CHECK(fewest == 16.0);
+    CHECK(most > 64.0);
+    // Negative control: a reference 3 % brighter is told apart.
+    const double tControl = (adaptive.mean - 1.03 * plain.mean) / standardError;
+    CHECK(2.0 * (1.0 - studentTCdf(std::abs(tControl), 15.0)) < 0.01);
+}
+
 TEST_CASE("Multi-layer EXR and PFM files round-trip", "[image][aov]") {
     TempDir dir;
     Bitmap colour(Vector2i(5, 3));

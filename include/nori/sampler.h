@@ -42,6 +42,9 @@ public:
     size_t getSampleCount() const { return m_sampleCount; }
     void setSampleCount(size_t sampleCount) { m_sampleCount = sampleCount; }
     uint64_t getSeed() const { return m_seed; }
+    /// Selects another set of sample sequences (adaptive sampling gives its decision
+    /// samples a seed of their own).
+    void setSeed(uint64_t seed) { m_seed = seed; }
 
     /// Adaptive sampling (off when maxTolerance is 0): after minSamples and after every
     /// pass, a pixel stops when the 95% confidence interval of its mean luminance,

@@ -287,7 +287,8 @@ const std::vector<ParameterDoc> &commonParameters(NoriObject::EClassType type) {
          "float",
          "0",
          "adaptive sampling: after minSamples and after every pass, a pixel stops once "
-         "1.96·σ/√n of its luminance is at most maxTolerance·μ (0: off)"},
+         "1.96·σ/√n of its luminance is at most maxTolerance·μ, σ and μ measured on "
+         "separate decision samples (a quarter as many) so the image stays unbiased (0: off)"},
         {{"minSamples"}, "integer", "16", "adaptive sampling: samples before a pixel may stop"}};
     switch (type) {
     case NoriObject::EIntegrator:

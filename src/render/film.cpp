@@ -6,11 +6,11 @@
 namespace nori {
 
 bool PixelStatistics::withinTolerance(float maxTolerance) const {
-    if (count < 2)
+    if (decisionCount < 2 || count < 1)
         return false;
-    const double n = count, mean = sum / n;
-    const double variance = std::max(0.0, (sumOfSquares - n * mean * mean) / (n - 1.0));
-    return 1.96 * std::sqrt(variance / n) <= maxTolerance * mean;
+    const double m = decisionCount, mean = sum / m;
+    const double variance = std::max(0.0, (sumOfSquares - m * mean * mean) / (m - 1.0));
+    return 1.96 * std::sqrt(variance / double(count)) <= maxTolerance * mean;
 }
 
 Color3f halfBufferVariance(const Color4f &totalSum, const Color4f &evenSum) {
@@ -65,11 +65,16 @@ void FilmBlock::put(const FilmSample &sample) {
         splat(kPosition, Color3f(surface.position.array()));
 }
 
-void FilmBlock::countSample(int x, int y, float luminance) {
+void FilmBlock::countSample(int x, int y) {
+    if (!m_statistics.empty())
+        ++m_statistics[index(x, y)].count;
+}
+
+void FilmBlock::countDecisionSample(int x, int y, float luminance) {
     if (m_statistics.empty())
         return;
     PixelStatistics &statistics = m_statistics[index(x, y)];
-    ++statistics.count;
+    ++statistics.decisionCount;
     statistics.sum += luminance;
     statistics.sumOfSquares += double(luminance) * luminance;
 }
@@ -80,6 +85,7 @@ void FilmBlock::add(const FilmBlock &pass) {
             m_layers[layer]->put(*pass.m_layers[layer]);
     for (size_t i = 0; i < m_statistics.size(); ++i) {
         m_statistics[i].count += pass.m_statistics[i].count;
+        m_statistics[i].decisionCount += pass.m_statistics[i].decisionCount;
         m_statistics[i].sum += pass.m_statistics[i].sum;
         m_statistics[i].sumOfSquares += pass.m_statistics[i].sumOfSquares;
     }

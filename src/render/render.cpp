@@ -18,17 +18,21 @@ bool isCancelled(const RenderOptions &options) {
     return options.cancel && options.cancel->load(std::memory_order_relaxed);
 }
 
+/// Mixed into the sampler's seed for adaptive sampling's decision samples.
+constexpr uint64_t kDecisionStream = 0xdec15105;
+
 /// Sample indices [first, end) of every pixel.
 struct SampleRange {
     uint32_t first, end;
 };
 
 /// Renders the samples `range` of the block's pixels that adaptive sampling has not
-/// stopped into `pass`. Returns false when cancelled part-way.
-bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
-                     const FilterSampler &filterSampler, const FilmBlock &accumulated,
-                     FilmBlock &pass, SampleRange range, const RenderOptions &options,
-                     size_t &validSamples, size_t &invalidSamples) {
+/// stopped into `pass`, and under adaptive sampling each such pixel's decision samples
+/// (see PixelStatistics) from `decisionSampler`. Returns false when cancelled part-way.
+bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSampler,
+                     const Film &film, const FilterSampler &filterSampler,
+                     const FilmBlock &accumulated, FilmBlock &pass, SampleRange range,
+                     const RenderOptions &options, size_t &validSamples, size_t &invalidSamples) {
     const Integrator *integrator = scene.getIntegrator();
     const bool surfaceAOVs = film.needsSurfaceAOVs();
     // Under adaptive sampling each pixel is reconstructed from its own samples, drawn
@@ -38,6 +42,39 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
     const bool importanceSampleFilter =
         options.filterImportanceSampling || sampler.getMaxTolerance() > 0.0f;
     sampler.prepare(pass.beauty());
+    if (decisionSampler)
+        decisionSampler->prepare(pass.beauty());
+    const uint32_t decisionCount = decisionSamplesFor(range.end - range.first);
+
+    // One sample of `pixel` from `generator`: its film position, the filter's sign there,
+    // its value, and (when wanted) its surface AOVs.
+    struct Sample {
+        Point2f position;
+        float filterSign = 1.0f;
+        Color3f value;
+        SurfaceAOVs surface;
+    };
+    auto trace = [&](Sampler &generator, const Point2i &pixel, uint32_t index, bool aovs) {
+        // The fixed order of dimensions: film position, aperture, then the integrator's.
+        generator.generate(pixel, index);
+        Sample sample;
+        sample.position = importanceSampleFilter
+                              ? Point2f(pixel.cast<float>() + Point2f(0.5f, 0.5f) +
+                                        filterSampler.sample(generator.next2D(), sample.filterSign))
+                              : Point2f(pixel.cast<float>() + generator.next2D());
+        const Point2f apertureSample = generator.next2D();
+        Ray3f ray;
+        sample.value = scene.sampleCameraRay(ray, sample.position, apertureSample);
+        // A weight of zero (a lens blocked the ray) leaves the ray unset: no light.
+        const bool traced = !(sample.value == 0.0f).all();
+        if (aovs && traced)
+            sample.surface = traceSurfaceAOVs(
+                scene, ray, hashValues(generator.getSeed(), pixel.x(), pixel.y(), index));
+        if (traced)
+            sample.value *= integrator->Li(&scene, &generator, ray);
+        return sample;
+    };
+
     for (int y = 0; y < pass.size().y(); ++y) {
         for (int x = 0; x < pass.size().x(); ++x) {
             if (accumulated.isConverged(x, y))
@@ -48,34 +85,27 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, const Film &film,
                 // Ctrl-C is prompt even when a pass has many samples per pixel.
                 if (isCancelled(options))
                     return false;
-                // The fixed order of dimensions: film position, aperture, then the
-                // integrator's.
-                sampler.generate(pixel, index);
-                float filterSign = 1.0f;
-                const Point2f position =
-                    importanceSampleFilter
-                        ? Point2f(pixel.cast<float>() + Point2f(0.5f, 0.5f) +
-                                  filterSampler.sample(sampler.next2D(), filterSign))
-                        : Point2f(pixel.cast<float>() + sampler.next2D());
-                const Point2f apertureSample = sampler.next2D();
-                Ray3f ray;
-                Color3f value = scene.sampleCameraRay(ray, position, apertureSample);
-                // A weight of zero (a lens blocked the ray) leaves the ray unset: no light.
-                const bool traced = !(value == 0.0f).all();
-                SurfaceAOVs surface;
-                if (surfaceAOVs && traced)
-                    surface = traceSurfaceAOVs(
-                        scene, ray, hashValues(sampler.getSeed(), pixel.x(), pixel.y(), index));
-                if (traced)
-                    value *= integrator->Li(&scene, &sampler, ray);
-                if (!value.isValid()) {
+                const Sample sample = trace(sampler, pixel, index, surfaceAOVs);
+                if (!sample.value.isValid()) {
                     ++invalidSamples;
                     continue;
                 }
-                pass.put({position, value, index, surfaceAOVs ? &surface : nullptr,
-                          importanceSampleFilter ? &pixel : nullptr, filterSign});
-                pass.countSample(x, y, value.getLuminance());
+                pass.put({sample.position, sample.value, index,
+                          surfaceAOVs ? &sample.surface : nullptr,
+                          importanceSampleFilter ? &pixel : nullptr, sample.filterSign});
+                pass.countSample(x, y);
                 ++validSamples;
+            }
+            if (!decisionSampler)
+                continue;
+            // The decision samples, numbered on from the pixel's earlier ones.
+            const uint32_t first = accumulated.decisionSamples(x, y);
+            for (uint32_t index = first; index < first + decisionCount; ++index) {
+                if (isCancelled(options))
+                    return false;
+                const Sample sample = trace(*decisionSampler, pixel, index, false);
+                if (sample.value.isValid())
+                    pass.countDecisionSample(x, y, sample.value.getLuminance());
             }
         }
     }
@@ -160,10 +190,16 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
                     for (size_t index = blocks.begin(); index != blocks.end(); ++index) {
                         std::unique_ptr<FilmBlock> pass = film.makePassBlock(index);
                         std::unique_ptr<Sampler> sampler = prototype->clone();
+                        std::unique_ptr<Sampler> decisionSampler;
+                        if (prototype->getMaxTolerance() > 0.0f) {
+                            decisionSampler = prototype->clone();
+                            decisionSampler->setSeed(
+                                hashValues(prototype->getSeed(), kDecisionStream));
+                        }
                         size_t valid = 0, invalid = 0;
-                        if (!renderBlockPass(scene, *sampler, film, filterSampler,
-                                             film.block(index), *pass, range, options, valid,
-                                             invalid)) {
+                        if (!renderBlockPass(scene, *sampler, decisionSampler.get(), film,
+                                             filterSampler, film.block(index), *pass, range,
+                                             options, valid, invalid)) {
                             interrupted = true;
                             return;
                         }
