@@ -310,6 +310,7 @@ TEST_CASE("Rays starting near a huge triangle hit it", "[bvh]") {
     // re-tested in double (a path in a medium bounded by such a box leaked out of it).
     const float half = 5000.0f;
     std::vector<Point3f> corners;
+    corners.reserve(8);
     for (int i = 0; i < 8; ++i)
         corners.emplace_back(i & 1 ? half : -half, i & 2 ? half : -half, i & 4 ? half : -half);
     const std::vector<Vector3i> faces = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6},

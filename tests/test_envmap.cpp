@@ -69,9 +69,10 @@ TEST_CASE("A direction sampled in a texel reads back as that texel, edges and po
     TempDir dir;
     const float edges[] = {0.0f, 0x1p-24f, 0.5f, 1.0f - 0x1p-24f};
     const std::pair<int, int> texels[] = {{5, 0}, {15, 3}, {0, 4}, {9, 7}};
-    for (const auto &[column, row] : texels)
+    for (const std::pair<int, int> &texel : texels)
         for (const char *rotation :
              {"", R"(<transform name="toWorld"><rotate axis="1, 1, 0" angle="30"/></transform>)"}) {
+            const int column = texel.first, row = texel.second;
             CAPTURE(column, row, rotation);
             const std::string file =
                 writeMap(dir, fmt::format("texel{}{}.exr", column, row), 16, 8, [&](int x, int y) {

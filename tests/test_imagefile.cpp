@@ -239,12 +239,14 @@ TEST_CASE("Hostile image files end in an error naming the file", "[imagefile]") 
             {"t.jpg", jpegBytes(8, 8)},
             {"t.hdr", hdrBytes(floatPattern(8, 8), 8, 8)},
             {"t.exr", exrBytes(floatPattern(8, 8), 8, 8, (dir.path() / "t.exr").string())}};
-        for (const auto &[name, bytes] : files)
+        for (const auto &file : files) {
+            const std::string &name = file.first, &bytes = file.second;
             for (size_t length : {size_t(4), bytes.size() / 3, bytes.size() - 1}) {
                 CAPTURE(name, length);
                 CHECK_THAT(errorOf([&] { decodeImageFile(bytes.substr(0, length), name); }),
                            Contains(name));
             }
+        }
     }
     SECTION("an unknown signature") {
         CHECK_THAT(errorOf([] { decodeImageFile("GIF89a......", "anim.gif"); }),
