@@ -94,6 +94,19 @@ bool samplesAgree(const RunningMoments &a, const RunningMoments &b, double &t) {
     return 2.0 * (1.0 - studentTCdf(std::abs(t), degrees)) > 0.01;
 }
 
+/// Checks that two estimates agree, and (the negative control) that `reference` scaled
+/// by `controlScale` is told apart from `estimate`.
+void checkAgreement(const RunningMoments &estimate, const RunningMoments &reference,
+                    double controlScale) {
+    double t;
+    INFO("estimate " << estimate.mean << ", reference " << reference.mean);
+    CHECK(samplesAgree(estimate, reference, t));
+    INFO("t = " << t);
+    RunningMoments scaled = reference;
+    scaled.mean *= controlScale;
+    CHECK_FALSE(samplesAgree(estimate, scaled, t));
+}
+
 double luminance(const Color3f &c) {
     return c.getLuminance();
 }
@@ -522,14 +535,8 @@ TEST_CASE("volpath: a slab 10^4 wide scatters light as one 100 wide", "[media][t
     };
     const RunningMoments narrow = estimatePixel(*slab(50.0f), 2000000);
     const RunningMoments wide = estimatePixel(*slab(5000.0f), 2000000);
-    double t;
-    INFO("100 wide " << narrow.mean << ", 10^4 wide " << wide.mean);
-    CHECK(samplesAgree(narrow, wide, t));
-    INFO("t = " << t);
     // Negative control: a 1 % brighter wide slab is told apart.
-    RunningMoments brighter = wide;
-    brighter.mean *= 1.01;
-    CHECK_FALSE(samplesAgree(narrow, brighter, t));
+    checkAgreement(narrow, wide, 1.01);
 }
 
 TEST_CASE("volpath equals path_mis on a scene without media", "[media][ttest]") {
@@ -543,14 +550,8 @@ TEST_CASE("volpath equals path_mis on a scene without media", "[media][ttest]") 
             <bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf></mesh>)";
     const RunningMoments volpath = estimatePixel(*litFloor("volpath", content), 100000);
     const RunningMoments pathMIS = estimatePixel(*litFloor("path_mis", content), 100000);
-    double t;
-    INFO("volpath " << volpath.mean << ", path_mis " << pathMIS.mean);
-    CHECK(samplesAgree(volpath, pathMIS, t));
-    INFO("t = " << t);
     // Negative control: path_mis scaled by 0.95 is told apart.
-    RunningMoments scaled = pathMIS;
-    scaled.mean *= 0.95;
-    CHECK_FALSE(samplesAgree(volpath, scaled, t));
+    checkAgreement(volpath, pathMIS, 0.95);
 }
 
 TEST_CASE("Media refuse bad input with clear errors", "[media][errors]") {
