@@ -7,6 +7,7 @@
 #include "app/progress.h"
 #include "app/renderpart.h"
 #include "denoise/denoiser.h"
+#include "testing/integratortest.h"
 #include "testing/plugintest.h"
 #include <nori/aov.h>
 #include <nori/filesystem.h>
@@ -594,19 +595,39 @@ int run(Options &options) {
         PluginTestOptions testOptions = options.pluginTest;
         testOptions.significanceLevel =
             sidakCorrection(options.pluginTest.significanceLevel, static_cast<int>(names.size()));
-        std::vector<std::string> failed;
-        const auto results = testSamplingPlugins(names, testOptions);
-        for (size_t i = 0; i < names.size(); ++i) {
-            fmt::print("{}\n", results[i].report);
-            if (!results[i].passed)
-                failed.push_back(names[i]);
+        // Integrators are tested one after the other (each render uses every core); the
+        // sampling plugins in parallel.
+        std::vector<std::string> samplingNames;
+        for (const std::string &name : names)
+            if (!isIntegratorPlugin(name))
+                samplingNames.push_back(name);
+        const auto samplingResults = testSamplingPlugins(samplingNames, testOptions);
+        std::vector<std::string> failed, untested;
+        size_t samplingIndex = 0;
+        for (const std::string &name : names) {
+            const PluginTestResult result = isIntegratorPlugin(name)
+                                                ? testIntegratorPlugin(name, testOptions)
+                                                : samplingResults[samplingIndex++];
+            fmt::print("{}\n", result.report);
+            if (!result.passed)
+                failed.push_back(name);
+            else if (!result.tested)
+                untested.push_back(name);
         }
         if (names.size() > 1)
             fmt::print("significance {:g} over all {} plugins ({:.3g} each)\n",
                        options.pluginTest.significanceLevel, names.size(),
                        testOptions.significanceLevel);
-        fmt::print("{} of {} plugins passed{}\n", names.size() - failed.size(), names.size(),
+        // A plugin that was not tested has not passed: the summary counts it apart.
+        const size_t tested = names.size() - untested.size();
+        if (!untested.empty())
+            fmt::print("not tested: {}\n", fmt::join(untested, ", "));
+        fmt::print("{} of {} tested plugins passed{}\n", tested - failed.size(), tested,
                    failed.empty() ? "" : fmt::format("; failed: {}", fmt::join(failed, ", ")));
+        if (tested == 0) {
+            fmt::print("nothing was tested: no verdict\n");
+            return 1;
+        }
         return failed.empty() ? 0 : 1;
     }
     if (!options.markdownFile.empty()) {

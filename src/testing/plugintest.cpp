@@ -316,7 +316,7 @@ PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOpt
                                 shortSourcePath(entry.sourceFile));
     if (entry.type != NoriObject::EBSDF && entry.type != NoriObject::EPhaseFunction &&
         entry.type != NoriObject::EEmitter) {
-        result.report += "  not a BSDF, phase function or emitter: nothing to sample\n";
+        result.report += "  not a BSDF, phase function, emitter or integrator: nothing to test\n";
         return result;
     }
     const std::string comment = docCommentOf(kind, name);

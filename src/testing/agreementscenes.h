@@ -1,0 +1,24 @@
+// The scenes of the agreement tests: the matrix every built-in estimator must pass
+// (nori-agreement, ctest label `agreement`), and the battery a user's integrator is put
+// through by `nori --test-plugin NAME`. Every file a scene reads (meshes, an environment
+// map, textures, a density grid, a lens) is generated here, so they run anywhere.
+#pragma once
+
+#include "testing/agreement.h"
+
+namespace nori {
+
+/// The agreement matrix: Cornell box, glossy plates, a sky with a sun over diffuse, rough
+/// conductor and glass, spot and directional lights, a textured normal-mapped plane,
+/// homogeneous and heterogeneous media with Henyey–Greenstein g = ±0.7, instanced
+/// geometry, Disney at three parameter sets, a thin-lens and a realistic camera; each
+/// with every integrator and sampler that applies.
+std::vector<AgreementScene> agreementMatrixScenes();
+
+/// The battery of a user's integrator (its <integrator> element): lights of very unequal
+/// power, delta lights, an environment map with a sun, glossy and specular surfaces; on
+/// each, the built-in path_mis first (estimator "path_mis") and the integrator second
+/// ("tested").
+std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXML);
+
+} // namespace nori

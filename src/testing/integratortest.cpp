@@ -1,0 +1,61 @@
+#include "testing/integratortest.h"
+
+#include "testing/agreementscenes.h"
+#include <nori/object.h>
+#include <nori/plugindoc.h>
+
+#include <cmath>
+
+namespace nori {
+
+bool isIntegratorPlugin(const std::string &name) {
+    for (NoriObject::EClassType kind : NoriObjectFactory::kindsOf(name))
+        if (kind == NoriObject::EIntegrator)
+            return true;
+    return false;
+}
+
+PluginTestResult testIntegratorPlugin(const std::string &name, const PluginTestOptions &options) {
+    const NoriObjectFactory::Entry &entry = NoriObjectFactory::entry(NoriObject::EIntegrator, name);
+    PluginTestResult result;
+    result.report = fmt::format("{} (integrator, {})\n", name, shortSourcePath(entry.sourceFile));
+    AgreementSettings settings;
+    settings.seed = options.seed;
+    const std::vector<AgreementScene> scenes =
+        integratorTestScenes(fmt::format(R"(<integrator type="{}"/>)", name));
+    size_t comparisons = 0;
+    for (const AgreementScene &scene : scenes) {
+        std::vector<RegionEstimate> reference, tested;
+        try {
+            reference = estimateRegions(scene, scene.estimators[0], 0, settings);
+            tested = estimateRegions(scene, scene.estimators[1], 1, settings);
+        } catch (const NoriException &error) {
+            result.tested = true;
+            result.passed = false;
+            result.report += fmt::format("  {}: did not render: {}\n", scene.name, error.what());
+            continue;
+        }
+        result.tested = true;
+        for (size_t r = 0; r < reference.size(); ++r) {
+            const AgreementCell cell = compareEstimates(tested[r], reference[r], settings);
+            ++comparisons;
+            result.passed &= cell.agrees;
+            result.report += fmt::format(
+                "  {:<22} {:<10} path_mis {:.5g} ± {:.2g}, {} {:.5g} ± {:.2g}: {:+.2f} % = "
+                "{:+.2f} standard errors{}\n",
+                scene.name, r == 0 ? "image" : scene.regions[r - 1].name, reference[r].mean,
+                reference[r].standardError, name, tested[r].mean, tested[r].standardError,
+                100.0 * cell.difference, cell.z, cell.agrees ? "" : "  DISAGREES");
+        }
+    }
+    // With 16 batches each, the difference over its standard error follows Student's t
+    // with about 30 degrees of freedom: beyond 4 with probability 4e-4, so that a correct
+    // integrator fails one of ~16 comparisons with probability below 1 %.
+    result.report += fmt::format(
+        "  {} comparisons with path_mis ({} batches each, disagreement beyond {:g} standard "
+        "errors)\n  verdict: {}\n",
+        comparisons, settings.batches, settings.threshold, result.passed ? "pass" : "FAIL");
+    return result;
+}
+
+} // namespace nori
