@@ -1,6 +1,7 @@
 #include "testing/agreement.h"
 
 #include <nori/common.h>
+#include <nori/hash.h>
 #include <nori/parser.h>
 #include <nori/render.h>
 #include <nori/scene.h>
@@ -81,8 +82,12 @@ std::vector<RegionEstimate> estimateRegions(const AgreementScene &scene, const E
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         tbb::parallel_for(0, settings.batches, [&](int batch) {
-            const uint64_t seed = settings.seed + 1000 * static_cast<uint64_t>(estimatorIndex) +
-                                  static_cast<uint64_t>(batch);
+            // Independent streams for every (seed, estimator, batch): runs with seeds s and
+            // s + 1 share no batch. The sampler's seed is an integer property: 31 bits.
+            const uint64_t seed =
+                hashValues(settings.seed, static_cast<uint64_t>(estimatorIndex),
+                           static_cast<uint64_t>(batch)) >>
+                33;
             const std::string xml = fmt::format(
                 "<scene>{}{}<sampler type=\"{}\"><integer name=\"sampleCount\" value=\"{}\"/>"
                 "<integer name=\"seed\" value=\"{}\"/>{}</sampler></scene>",

@@ -56,7 +56,7 @@ struct AgreementSettings {
     double detectableBias = 0.005;
     /// Where each estimator's mean image goes (SCENE-ESTIMATOR.exr and .png); empty: nowhere.
     std::string pictureFolder;
-    uint64_t seed = 1; ///< the batches of estimator e use seeds from seed + 1000·e
+    uint64_t seed = 1; ///< batch b of estimator e renders with hash(seed, e, b)
     /// Called after each estimator's batches with "scene: estimator (seconds)".
     std::function<void(const std::string &)> progress;
 };
