@@ -64,14 +64,18 @@ FileWriter skyMap(float sun) {
     };
 }
 
-/// A colour checkerboard of 8×8 squares on a 32×32 image.
+/// A colour checkerboard of 4×4-texel squares on a 32×32 image, darkening along u: the
+/// ramp makes every region's mean depend on where the texels fall (a periodic pattern
+/// alone would hide a texture lookup shifted by a fraction of a texel).
 FileWriter checkerTexture() {
     return [](const std::string &path) {
         Bitmap image(Eigen::Vector2i(32, 32));
         for (int y = 0; y < 32; ++y)
-            for (int x = 0; x < 32; ++x)
-                image(y, x) = ((x / 4 + y / 4) % 2 == 0) ? Color3f(0.8f, 0.7f, 0.5f)
-                                                         : Color3f(0.15f, 0.3f, 0.6f);
+            for (int x = 0; x < 32; ++x) {
+                const Color3f square = ((x / 4 + y / 4) % 2 == 0) ? Color3f(0.8f, 0.7f, 0.5f)
+                                                                  : Color3f(0.15f, 0.3f, 0.6f);
+                image(y, x) = square * (1.0f - 0.8f * (static_cast<float>(x) + 0.5f) / 32.0f);
+            }
         image.saveEXR(path);
     };
 }
