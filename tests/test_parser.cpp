@@ -9,6 +9,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <tbb/parallel_for.h>
+
 using namespace nori;
 using Catch::Contains;
 using nori::testing::errorOf;
@@ -315,4 +317,19 @@ TEST_CASE("Parser errors name the file, line, column and offending name", "[pars
                    Contains("<string>:1:9") && Contains("cannot open OBJ mesh file") &&
                        Contains("missing.obj"));
     }
+}
+
+TEST_CASE("Scenes load from several threads at once", "[parser]") {
+    // Each load puts its folder in Nori 2's process-wide file resolver; concurrent loads
+    // once freed the same entry twice (the agreement test loads its batches in parallel).
+    testing::TempDir dir;
+    dir.write("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+    const std::string xml = R"(<scene><integrator type="normals"/>
+        <camera type="perspective"><integer name="width" value="4"/><integer name="height" value="4"/></camera>
+        <mesh type="obj"><string name="filename" value="quad.obj"/></mesh></scene>)";
+    std::vector<size_t> loaded(2000, 0);
+    tbb::parallel_for(size_t(0), loaded.size(), [&](size_t i) {
+        loaded[i] = testing::loadScene(xml, dir.path().string())->getShapes().size();
+    });
+    CHECK(std::count(loaded.begin(), loaded.end(), size_t(1)) == 2000);
 }

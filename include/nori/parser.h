@@ -26,7 +26,8 @@ struct LoadOptions {
 };
 
 /// Loads the XML file and returns its activated root object (a scene or a test). Every
-/// error is a NoriException whose message starts with "file:line:col: ".
+/// error is a NoriException whose message starts with "file:line:col: ". Threads may load
+/// at once: the loads take turns (Nori 2's file resolver is one per process).
 std::shared_ptr<NoriObject> loadFromXML(const std::string &filename,
                                         const LoadOptions &options = {});
 /// As loadFromXML, for XML text; relative file names resolve against `directory`.

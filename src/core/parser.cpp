@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <iostream>
 #include <list>
+#include <mutex>
 #include <optional>
 #include <set>
 
@@ -665,9 +666,13 @@ private:
 namespace {
 /// Puts a scene file's folder first in Nori 2's file resolver while the file is read, so
 /// that course plugins find the files the scene names (getFileResolver()->resolve(...)).
+/// The resolver is one per process, so loads from several threads take turns: the lock is
+/// held for the whole load (recursive, for a plugin that loads a file while it loads).
 class ResolverFolder {
 public:
-    explicit ResolverFolder(const std::string &directory) { getFileResolver()->prepend(directory); }
+    explicit ResolverFolder(const std::string &directory) : m_lock(mutex()) {
+        getFileResolver()->prepend(directory);
+    }
     ~ResolverFolder() {
         filesystem::resolver &resolver = *getFileResolver();
         if (resolver.size() > 0)
@@ -675,6 +680,13 @@ public:
     }
     ResolverFolder(const ResolverFolder &) = delete;
     ResolverFolder &operator=(const ResolverFolder &) = delete;
+
+private:
+    static std::recursive_mutex &mutex() {
+        static std::recursive_mutex instance;
+        return instance;
+    }
+    std::lock_guard<std::recursive_mutex> m_lock;
 };
 } // namespace
 
