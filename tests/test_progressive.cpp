@@ -404,6 +404,65 @@ TEST_CASE("Filter importance sampling draws offsets in proportion to |filter|",
     }
 }
 
+TEST_CASE("Filter importance sampling at the image's edge draws from the cut filter",
+          "[render][adaptive][chi2]") {
+    // A pixel whose filter reaches past the image's edge samples offsets in
+    // [lower, upper] only, in proportion to |f| there: what splatting reconstructs an
+    // edge pixel from (the samples inside the image).
+    for (const std::string type : {"gaussian", "mitchell"}) {
+        CAPTURE(type);
+        auto filter = std::dynamic_pointer_cast<ReconstructionFilter>(
+            loadFromXMLString(fmt::format(R"(<rfilter type="{}"/>)", type)));
+        REQUIRE(filter);
+        const FilterSampler sampler(filter.get());
+        const float radius = filter->getRadius(), lower = -0.5f, upper = radius;
+        constexpr int kBins = 48, kSamples = 200000;
+        std::vector<double> observed(kBins, 0.0), expected(kBins, 0.0), uncut(kBins, 0.0);
+        PCG32 random(11, 5);
+        size_t outside = 0;
+        for (int i = 0; i < kSamples; ++i) {
+            float sign;
+            const float u = random.nextFloat();
+            const Point2f offset = sampler.sample(Point2f(u, random.nextFloat()), sign,
+                                                  Vector2f(lower, -radius), Vector2f(upper, radius));
+            outside += offset.x() < lower || offset.x() > upper ? 1 : 0;
+            const int bin = std::clamp(
+                static_cast<int>((offset.x() - lower) / (upper - lower) * kBins), 0, kBins - 1);
+            observed[static_cast<size_t>(bin)] += 1.0;
+        }
+        // Expected: the tabulated |f| over [lower, upper]; the control: |f| over [−r, r]
+        // folded into the same bins by clamping (what an uncut sampler would give).
+        double total = 0.0;
+        const float step = radius / 32;
+        for (int bin = 0; bin < kBins; ++bin) {
+            for (int k = 0; k < 100; ++k) {
+                const float x = lower + (upper - lower) * (bin + (k + 0.5f) / 100) / kBins;
+                expected[static_cast<size_t>(bin)] +=
+                    std::abs(filter->eval(std::floor(std::abs(x) / step) * step));
+            }
+            total += expected[static_cast<size_t>(bin)];
+        }
+        for (double &count : expected)
+            count *= kSamples / total;
+        double uncutTotal = 0.0;
+        for (int k = 0; k < 100 * kBins; ++k) {
+            const float x = -radius + 2 * radius * (k + 0.5f) / (100 * kBins);
+            const double weight = std::abs(filter->eval(std::floor(std::abs(x) / step) * step));
+            const int bin = std::clamp(static_cast<int>((x - lower) / (upper - lower) * kBins), 0,
+                                       kBins - 1);
+            uncut[static_cast<size_t>(bin)] += weight;
+            uncutTotal += weight;
+        }
+        for (double &count : uncut)
+            count *= kSamples / uncutTotal;
+        const ChiSquareResult result = pearsonChiSquareTest(observed, expected, 5.0, 0.01);
+        INFO(result.message);
+        CHECK(result.passed);
+        CHECK(outside == 0);
+        CHECK_FALSE(pearsonChiSquareTest(observed, uncut, 5.0, 0.01).passed);
+    }
+}
+
 TEST_CASE("Filter importance sampling converges to the splatted image", "[render][adaptive]") {
     // Per-pixel differences of the two reconstructions at 64 spp have mean zero (t-test
     // over the pixels), for a positive filter and for one with negative lobes.

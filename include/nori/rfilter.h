@@ -41,9 +41,18 @@ public:
     explicit FilterSampler(const ReconstructionFilter *filter);
     /// The offset from the pixel centre for a uniform `u`, and the filter's sign there.
     Point2f sample(const Point2f &u, float &sign) const;
+    /// The same, drawn from the filter restricted to offsets in [lower, upper] (per axis):
+    /// a pixel at the image's edge samples only positions inside the image, as splatting
+    /// reconstructs it from the samples inside the image alone. Where the bounds do not
+    /// cut the filter, the same offset as sample(u, sign).
+    Point2f sample(const Point2f &u, float &sign, const Vector2f &lower,
+                   const Vector2f &upper) const;
 
 private:
     float sample1D(float u, float &sign) const;
+    float sample1D(float u, float &sign, float lower, float upper) const;
+    /// The fraction of the half filter's |f| mass in [0, t], for t in [0, radius].
+    float halfCdf(float t) const;
 
     float m_radius = 0.5f;
     std::vector<float> m_values; ///< the filter in each step of [0, radius)

@@ -15,7 +15,7 @@ namespace {
 
 struct Options {
     bool soak = false, requirePower = false;
-    std::vector<std::string> scenes;
+    std::vector<std::string> scenes, estimators;
     int threads = 0, batches = 16;
     uint64_t seed = 1;
     std::string pictures;
@@ -39,6 +39,16 @@ int run(const Options &options) {
         }
         scenes = std::move(chosen);
     }
+    if (!options.estimators.empty())
+        for (AgreementScene &scene : scenes) {
+            // The reference stays: the table compares with it.
+            std::vector<Estimator> kept{scene.estimators.front()};
+            for (size_t e = 1; e < scene.estimators.size(); ++e)
+                if (std::find(options.estimators.begin(), options.estimators.end(),
+                              scene.estimators[e].label) != options.estimators.end())
+                    kept.push_back(scene.estimators[e]);
+            scene.estimators = std::move(kept);
+        }
     AgreementSettings settings;
     settings.threads = options.threads;
     settings.batches = options.batches;
@@ -75,6 +85,10 @@ int main(int argc, char **argv) {
                          "also fail when a comparison cannot see a 0.5 % bias");
             app.add_option("--scene", options.scenes, "only these scenes (repeatable)")
                 ->type_name("NAME");
+            app.add_option("--estimator", options.estimators,
+                           "only these estimators besides each scene's reference (repeatable; "
+                           "labels as the table prints them)")
+                ->type_name("LABEL");
             app.add_option("--threads", options.threads, "worker threads (default: all cores)")
                 ->type_name("N");
             app.add_option("--batches", options.batches,

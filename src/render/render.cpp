@@ -45,6 +45,7 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
     if (decisionSampler)
         decisionSampler->prepare(pass.beauty());
     const uint32_t decisionCount = decisionSamplesFor(range.end - range.first);
+    const Vector2f imageSize = film.size().cast<float>();
 
     // One sample of `pixel` from `generator`: its film position, the filter's sign there,
     // its value, and (when wanted) its surface AOVs.
@@ -58,10 +59,14 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
         // The fixed order of dimensions: film position, aperture, then the integrator's.
         generator.generate(pixel, index);
         Sample sample;
-        sample.position = importanceSampleFilter
-                              ? Point2f(pixel.cast<float>() + Point2f(0.5f, 0.5f) +
-                                        filterSampler.sample(generator.next2D(), sample.filterSign))
-                              : Point2f(pixel.cast<float>() + generator.next2D());
+        // Filter importance sampling keeps positions inside the image, where splatting
+        // takes its samples: an edge pixel sees the filter cut at the edge either way.
+        const Point2f centre = pixel.cast<float>() + Point2f(0.5f, 0.5f);
+        sample.position =
+            importanceSampleFilter
+                ? Point2f(centre + filterSampler.sample(generator.next2D(), sample.filterSign,
+                                                        -centre, imageSize - centre))
+                : Point2f(pixel.cast<float>() + generator.next2D());
         const Point2f apertureSample = generator.next2D();
         Ray3f ray;
         sample.value = scene.sampleCameraRay(ray, sample.position, apertureSample);

@@ -41,6 +41,44 @@ float FilterSampler::sample1D(float u, float &sign) const {
            std::min((static_cast<float>(step) + within) * stepSize, std::nextafter(m_radius, 0.0f));
 }
 
+float FilterSampler::halfCdf(float t) const {
+    const float position =
+        std::clamp(t / m_radius, 0.0f, 1.0f) * static_cast<float>(m_values.size());
+    const size_t step = std::min(static_cast<size_t>(position), m_values.size() - 1);
+    return m_cdf[step] + (position - static_cast<float>(step)) * (m_cdf[step + 1] - m_cdf[step]);
+}
+
+float FilterSampler::sample1D(float u, float &sign, float lower, float upper) const {
+    if (lower <= -m_radius && upper >= m_radius)
+        return sample1D(u, sign);
+    // The CDF of |f| over the whole line, G(t) = (1 + sgn t · C(|t|))/2 with C the half
+    // CDF, is restricted to [lower, upper] by mapping u into [G(lower), G(upper)] and
+    // inverted (inversion method on the truncated density; PBR 4th ed. §A.3.1).
+    auto fullCdf = [&](float t) {
+        const float c = halfCdf(std::abs(t));
+        return 0.5f * (1.0f + (t < 0.0f ? -c : c));
+    };
+    const float from = fullCdf(std::max(lower, -m_radius)), to = fullCdf(std::min(upper, m_radius));
+    const float v = from + u * (to - from);
+    // sample1D's own inversion, with the side from v: v < 1/2 is the negative half, at
+    // C⁻¹(1 − 2v) from the centre.
+    if (v < 0.5f) {
+        float offset = sample1D(0.5f + 0.5f * (1.0f - 2.0f * v), sign);
+        offset = -offset;
+        return std::clamp(offset, lower, upper);
+    }
+    return std::clamp(sample1D(0.5f + 0.5f * std::min(2.0f * v - 1.0f, 1.0f), sign), lower, upper);
+}
+
+Point2f FilterSampler::sample(const Point2f &u, float &sign, const Vector2f &lower,
+                              const Vector2f &upper) const {
+    float signX, signY;
+    const Point2f offset(sample1D(u.x(), signX, lower.x(), upper.x()),
+                         sample1D(u.y(), signY, lower.y(), upper.y()));
+    sign = signX * signY;
+    return offset;
+}
+
 Point2f FilterSampler::sample(const Point2f &u, float &sign) const {
     float signX, signY;
     const Point2f offset(sample1D(u.x(), signX), sample1D(u.y(), signY));

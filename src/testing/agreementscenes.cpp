@@ -205,14 +205,18 @@ AgreementScene cornellBox() {
                  sphere("0.45, -0.65, 0.3", 0.35f,
                         R"(<bsdf type="roughconductor"><string name="material" value="Al"/>
                            <float name="alpha" value="0.2"/></bsdf>)");
-    scene.regions = {{"shadow", 8, 26, 8, 4}, {"red-wall", 0, 8, 4, 12}, {"glossy", 17, 19, 6, 6}};
-    scene.estimators = {pathTracer("path_mis", 64),
-                        pathTracer("path_ems", 64),
-                        pathTracer("path_mats", 128),
-                        pathTracer("volpath", 64),
-                        sampler("sobol", 64),
-                        sampler("stratified", 64),
-                        adaptive(96),
+    scene.regions = {{"shadow", 8, 26, 8, 4},
+                     {"red-wall", 0, 8, 4, 12},
+                     {"wall-edge", 0, 8, 2, 12},
+                     {"wall-inner", 2, 8, 3, 12},
+                     {"glossy", 17, 19, 6, 6}};
+    scene.estimators = {pathTracer("path_mis", 512),
+                        pathTracer("path_ems", 512),
+                        pathTracer("path_mats", 1024),
+                        pathTracer("volpath", 512),
+                        sampler("sobol", 512),
+                        sampler("stratified", 512),
+                        adaptive(768),
                         progressivePhotons(64, 20000)};
     return scene;
 }
@@ -246,8 +250,8 @@ AgreementScene glossyPlates() {
                          radii[i], areaLight(fmt::format("{}", 0.4f / (radii[i] * radii[i]))));
     scene.body = perspective("0, 0.6, 3.2", "0, -0.4, 0", 45, 32) + plates + lights;
     scene.regions = {{"highlights", 2, 14, 28, 6}, {"upper", 2, 8, 28, 5}};
-    scene.estimators = {pathTracer("path_mis", 64), pathTracer("path_ems", 64),
-                        pathTracer("path_mats", 256), sampler("sobol", 64)};
+    scene.estimators = {pathTracer("path_mis", 1024), pathTracer("path_ems", 1024),
+                        pathTracer("path_mats", 4096), sampler("sobol", 1024)};
     scene.estimators[2].powerExemption =
         "BSDF sampling finds the smallest light (radius 0.03) off the roughest plate with "
         "probability 1e-3; 0.5 % would take 1e9 samples";
@@ -272,8 +276,8 @@ AgreementScene skyWithSun() {
                      {"glass", 17, 10, 6, 6},
                      {"caustic", 18, 16, 4, 3},
                      {"floor", 0, 24, 32, 8}};
-    scene.estimators = {pathTracer("path_mis", 64), pathTracer("path_ems", 64),
-                        pathTracer("path_mats", 256), progressivePhotons(64, 20000)};
+    scene.estimators = {pathTracer("path_mis", 512), pathTracer("path_ems", 512),
+                        pathTracer("path_mats", 2048), progressivePhotons(64, 20000)};
     scene.estimators[2].powerExemption =
         "BSDF sampling finds the sun (0.06 sr) with probability 2e-2 from the floor and the "
         "rough sphere; 0.5 % would take 2e8 samples (issue 42: 5e8)";
@@ -295,9 +299,9 @@ AgreementScene deltaLights() {
                      <color name="irradiance" value="1, 0.9, 0.8"/></emitter>)";
     scene.regions = {{"sphere", 12, 7, 8, 7}, {"shadow", 9, 15, 6, 3}};
     const std::string depth1 = R"(<integer name="maxDepth" value="1"/>)";
-    scene.estimators = {pathTracer("path_mis", 16, depth1), pathTracer("path_ems", 16, depth1),
-                        pathTracer("direct_mis", 16),       pathTracer("direct_ems", 16),
-                        pathTracer("whitted", 16),          pathTracer("direct", 16)};
+    scene.estimators = {pathTracer("path_mis", 512, depth1), pathTracer("path_ems", 512, depth1),
+                        pathTracer("direct_mis", 512),       pathTracer("direct_ems", 512),
+                        pathTracer("whitted", 512),          pathTracer("direct", 512)};
     return scene;
 }
 
@@ -317,8 +321,8 @@ AgreementScene texturedPlane() {
                      <texture type="image" name="normal"><string name="filename" value="normal.exr"/></texture>)") +
                  mesh("light.obj", diffuse("0") + areaLight("4"));
     scene.regions = {{"centre", 8, 8, 16, 16}};
-    scene.estimators = {pathTracer("path_mis", 32), pathTracer("path_ems", 32),
-                        pathTracer("path_mats", 64), sampler("sobol", 32)};
+    scene.estimators = {pathTracer("path_mis", 256), pathTracer("path_ems", 256),
+                        pathTracer("path_mats", 512), sampler("sobol", 256)};
     return scene;
 }
 
@@ -359,10 +363,11 @@ AgreementScene media() {
                          spp,
                          ""};
     };
-    Estimator sobol = volpath("ratio", 32);
+    Estimator sobol = volpath("ratio", 256);
     sobol.label = "volpath+sobol";
     sobol.sampler = "sobol";
-    scene.estimators = {volpath("ratio", 32), volpath("delta", 32), volpath("raymarch", 32), sobol};
+    scene.estimators = {volpath("ratio", 256), volpath("delta", 256), volpath("raymarch", 256),
+                        sobol};
     return scene;
 }
 
@@ -386,8 +391,8 @@ AgreementScene instances() {
                  mesh("box.obj", diffuse("0.3, 0.5, 0.7") +
                                      R"(<boolean name="visible" value="false"/>)" + copies);
     scene.regions = {{"centre", 10, 10, 12, 12}};
-    scene.estimators = {pathTracer("path_mis", 32), pathTracer("path_ems", 32),
-                        pathTracer("path_mats", 64)};
+    scene.estimators = {pathTracer("path_mis", 256), pathTracer("path_ems", 256),
+                        pathTracer("path_mats", 512)};
     return scene;
 }
 
@@ -412,8 +417,8 @@ AgreementScene disney() {
             <float name="clearcoat" value="1"/><float name="clearcoatGloss" value="0.7"/>
             <float name="subsurface" value="0.5"/></bsdf>)");
     scene.regions = {{"default", 1, 9, 7, 9}, {"metal", 12, 9, 8, 9}, {"coated", 24, 9, 7, 9}};
-    scene.estimators = {pathTracer("path_mis", 32), pathTracer("path_ems", 32),
-                        pathTracer("path_mats", 64)};
+    scene.estimators = {pathTracer("path_mis", 512), pathTracer("path_ems", 512),
+                        pathTracer("path_mats", 1024)};
     return scene;
 }
 
@@ -448,8 +453,8 @@ AgreementScene lensCamera(bool realistic) {
     scene.body = camera + mesh("floor.obj", diffuse("0.6")) +
                  mesh("light.obj", diffuse("0") + areaLight("3")) + boxes;
     scene.regions = {{"centre", 8, 8, 16, 16}};
-    scene.estimators = {pathTracer("path_mis", 32), pathTracer("path_ems", 32),
-                        pathTracer("path_mats", 64)};
+    scene.estimators = {pathTracer("path_mis", 256), pathTracer("path_ems", 256),
+                        pathTracer("path_mats", 512)};
     return scene;
 }
 
