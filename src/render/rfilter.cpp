@@ -73,8 +73,8 @@ float FilterSampler::sample1D(float u, float &sign, float lower, float upper) co
 Point2f FilterSampler::sample(const Point2f &u, float &sign, const Vector2f &lower,
                               const Vector2f &upper) const {
     float signX, signY;
-    const Point2f offset(sample1D(u.x(), signX, lower.x(), upper.x()),
-                         sample1D(u.y(), signY, lower.y(), upper.y()));
+    Point2f offset(sample1D(u.x(), signX, lower.x(), upper.x()),
+                   sample1D(u.y(), signY, lower.y(), upper.y()));
     sign = signX * signY;
     return offset;
 }

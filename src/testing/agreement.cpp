@@ -84,10 +84,9 @@ std::vector<RegionEstimate> estimateRegions(const AgreementScene &scene, const E
         tbb::parallel_for(0, settings.batches, [&](int batch) {
             // Independent streams for every (seed, estimator, batch): runs with seeds s and
             // s + 1 share no batch. The sampler's seed is an integer property: 31 bits.
-            const uint64_t seed =
-                hashValues(settings.seed, static_cast<uint64_t>(estimatorIndex),
-                           static_cast<uint64_t>(batch)) >>
-                33;
+            const uint64_t seed = hashValues(settings.seed, static_cast<uint64_t>(estimatorIndex),
+                                             static_cast<uint64_t>(batch)) >>
+                                  33;
             const std::string xml = fmt::format(
                 "<scene>{}{}<sampler type=\"{}\"><integer name=\"sampleCount\" value=\"{}\"/>"
                 "<integer name=\"seed\" value=\"{}\"/>{}</sampler></scene>",
@@ -129,6 +128,7 @@ std::vector<RegionEstimate> estimateRegions(const AgreementScene &scene, const E
         sum.savePNG(path + ".png");
     }
     std::vector<RegionEstimate> estimates;
+    estimates.reserve(moments.size());
     for (const RunningMoments &m : moments)
         estimates.push_back({m.mean, std::sqrt(m.variance() / static_cast<double>(m.count))});
     return estimates;

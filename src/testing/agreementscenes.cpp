@@ -381,11 +381,13 @@ AgreementScene instances() {
     scene.files["light.obj"] =
         textFile(quadOBJ({-0.8f, 2.5f, -0.8f}, Vector3f(1.6f, 0, 0), Vector3f(0, 0, 1.6f)));
     std::string copies;
-    for (int i = 0; i < 9; ++i)
-        copies += fmt::format(R"(<mesh type="tmesh"><transform name="toWorld">
+    for (int i = 0; i < 9; ++i) {
+        const int column = i % 3 - 1, row = i / 3 - 1; // a 3×3 grid
+        copies +=
+            fmt::format(R"(<mesh type="tmesh"><transform name="toWorld">
             <rotate axis="0, 1, 0" angle="{}"/><translate value="{}, 0, {}"/></transform></mesh>)",
-                              20 * i, 0.7f * static_cast<float>(i % 3 - 1),
-                              0.7f * static_cast<float>(i / 3 - 1));
+                        20 * i, 0.7f * static_cast<float>(column), 0.7f * static_cast<float>(row));
+    }
     scene.body = perspective("0, 2.5, 3", "0, 0, 0", 45, 32) + mesh("floor.obj", diffuse("0.6")) +
                  mesh("light.obj", diffuse("0") + areaLight("5")) +
                  mesh("box.obj", diffuse("0.3, 0.5, 0.7") +

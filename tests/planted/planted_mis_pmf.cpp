@@ -68,7 +68,7 @@ public:
 private:
     static Color3f found(const Emitter &emitter, const EmitterQueryRecord &lRec, bool specular,
                          float bsdfPdf) {
-        const Color3f le = emitter.eval(lRec);
+        Color3f le = emitter.eval(lRec);
         if (specular || (le == 0.0f).all())
             return le;
         return le * balanceHeuristic(bsdfPdf, emitter.pdf(lRec)); // the planted bug: no pmf
