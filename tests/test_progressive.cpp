@@ -423,8 +423,9 @@ TEST_CASE("Filter importance sampling at the image's edge draws from the cut fil
         for (int i = 0; i < kSamples; ++i) {
             float sign;
             const float u = random.nextFloat();
-            const Point2f offset = sampler.sample(Point2f(u, random.nextFloat()), sign,
-                                                  Vector2f(lower, -radius), Vector2f(upper, radius));
+            const Point2f offset =
+                sampler.sample(Point2f(u, random.nextFloat()), sign, Vector2f(lower, -radius),
+                               Vector2f(upper, radius));
             outside += offset.x() < lower || offset.x() > upper ? 1 : 0;
             const int bin = std::clamp(
                 static_cast<int>((offset.x() - lower) / (upper - lower) * kBins), 0, kBins - 1);
@@ -448,8 +449,8 @@ TEST_CASE("Filter importance sampling at the image's edge draws from the cut fil
         for (int k = 0; k < 100 * kBins; ++k) {
             const float x = -radius + 2 * radius * (k + 0.5f) / (100 * kBins);
             const double weight = std::abs(filter->eval(std::floor(std::abs(x) / step) * step));
-            const int bin = std::clamp(static_cast<int>((x - lower) / (upper - lower) * kBins), 0,
-                                       kBins - 1);
+            const int bin =
+                std::clamp(static_cast<int>((x - lower) / (upper - lower) * kBins), 0, kBins - 1);
             uncut[static_cast<size_t>(bin)] += weight;
             uncutTotal += weight;
         }

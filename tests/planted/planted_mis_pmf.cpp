@@ -32,8 +32,9 @@ public:
             Intersection its;
             if (!scene->rayIntersect(ray, its)) {
                 for (const Emitter *emitter : scene->getInfiniteEmitters())
-                    radiance += throughput * found(*emitter, EmitterQueryRecord(ray, specularBounce),
-                                                   specularBounce, bsdfPdf);
+                    radiance +=
+                        throughput * found(*emitter, EmitterQueryRecord(ray, specularBounce),
+                                           specularBounce, bsdfPdf);
                 break;
             }
             if (const Emitter *emitter = its.shape->getEmitter())
