@@ -58,8 +58,9 @@ inline uint32_t decisionSamplesFor(uint32_t imageSamples) {
 /// 0 when either half has no weight (one sample or none).
 Color3f halfBufferVariance(const Color4f &totalSum, const Color4f &evenSum);
 
-/// The channels a part of a split render adds to its image for the merge (see
-/// renderpart.h): the filter weight of every pixel, and the even samples' half-buffer.
+/// The channels of a render with the variance layer, and of every part of a split render
+/// (see renderpart.h): the filter weight of every pixel, and the even samples'
+/// half-buffer. With them, parts are merged exactly and a region's error is estimated.
 constexpr const char *kWeightChannel = "weight.W";
 constexpr const char *kEvenHalfLayer = "evenHalf";
 constexpr const char *kEvenHalfWeightChannel = "evenHalf.W";
@@ -136,9 +137,11 @@ public:
 
     /// The image: the beauty as R, G, B and one layer per AOV. Blocks are merged in
     /// index order, so every pixel sums the same values in the same order every time.
-    /// Not thread-safe (it reuses one merge buffer). `withWeights`: also the channels a
-    /// part of a split render needs to be merged (kWeightChannel; with the variance layer,
-    /// the kEvenHalfLayer and its kEvenHalfWeightChannel).
+    /// Not thread-safe (it reuses one merge buffer). With the variance layer, also the
+    /// even samples' half-buffer (kEvenHalfLayer, kEvenHalfWeightChannel) and the filter
+    /// weights (kWeightChannel): what estimates the error of a region's mean, pixels'
+    /// correlations included (testing/halfbuffers.h). `withWeights`: the filter weights
+    /// even without the variance layer (a part of a split render, to be merged).
     LayeredImage develop(bool withWeights = false) const;
 
 private:

@@ -303,21 +303,25 @@ MergeResult mergeParts(const std::vector<std::string> &files, bool allowMissing)
         return (w != 0.0).select(sum / w, 0.0).cast<float>();
     };
     result.image = LayeredImage(first.resolution);
+    const bool withHalves = firstChannels.count(std::string(aovName(AOV::Variance)) + ".R") > 0;
     for (const std::string &name : firstChannels) {
         switch (mergeRule(name)) {
         case MergeRule::Weighted:
             result.image.addChannel(name, mean(sums.at(name), weight));
             break;
         case MergeRule::Summed:
-            if (name != kWeightChannel && name != kEvenHalfWeightChannel)
+            // The filter weights stay with the half-buffer, as in a render (Film::develop).
+            if (name != kWeightChannel || withHalves)
                 result.image.addChannel(name, sums.at(name).cast<float>());
             break;
         case MergeRule::EvenHalf:
+            result.image.addChannel(name, mean(sums.at(name), sums.at(kEvenHalfWeightChannel)));
+            break;
         case MergeRule::Recomputed:
-            break; // the half-buffer only serves the variance, recomputed below
+            break; // the variance, recomputed below
         }
     }
-    if (firstChannels.count(std::string(aovName(AOV::Variance)) + ".R")) {
+    if (withHalves) {
         // The variance from the merged half-buffers, as Film::develop computes it.
         const Sums &evenWeight = sums.at(kEvenHalfWeightChannel);
         const std::string even = std::string(kEvenHalfLayer) + ".";

@@ -1,15 +1,19 @@
 // nori-imgtool: operations on rendered images: `denoise` runs the built-in denoiser on a
 // multi-layer EXR written by `nori --aovs ...`; `diff` compares a render with a reference;
-// `convert` changes an image's format; `info` prints its size, layers and statistics.
+// `compare` says whether two renders agree within their noise; `convert` changes an
+// image's format; `info` prints its size, layers and statistics.
 #include "app/cli.h"
 #include "denoise/denoiser.h"
+#include "testing/halfbuffers.h"
 #include <nori/imagefile.h>
 #include <nori/layeredimage.h>
 #include <nori/strutil.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 using namespace nori;
 
@@ -24,6 +28,11 @@ struct DiffOptions {
     std::vector<std::string> files;
     std::string layer, errorImage, metric = "relmse", crop;
     double tolerance = -1.0;
+};
+struct CompareOptions {
+    std::vector<std::string> files, regions;
+    int grid = 0, radius = HalfBufferErrors::kDefaultRadius;
+    double threshold = 4.0;
 };
 struct ConvertOptions {
     std::vector<std::string> files;
@@ -173,6 +182,134 @@ int diffCommand(const DiffOptions &options) {
     return 0;
 }
 
+constexpr const char *kChannelNames[3] = {"R", "G", "B"};
+
+/// One render of `compare`: its region estimates, or exact values for a reference
+/// without half-buffers.
+struct ComparedRender {
+    std::string file;
+    LayeredImage image;
+    std::optional<HalfBufferErrors> errors;
+
+    int radius;
+
+    ComparedRender(const std::string &name, int correlationRadius)
+        : file(name), image(LayeredImage::loadEXR(name)), radius(correlationRadius) {
+        if (!image.hasLayer(""))
+            throw NoriException("{}: has no beauty (R, G, B)", file);
+        if (hasHalfBuffers(image)) {
+            try {
+                errors.emplace(image, radius);
+            } catch (const NoriException &error) {
+                throw NoriException("{}: {}", file, error.what());
+            }
+        }
+    }
+
+    std::array<RegionEstimate, 3> estimate(const ImageRegion &region) const {
+        if (errors)
+            return errors->estimate(region);
+        // A reference taken as exact: its means with no standard error.
+        const Bitmap beauty = image.layer("");
+        const int width = region.width > 0 ? region.width : int(beauty.cols());
+        const int height = region.width > 0 ? region.height : int(beauty.rows());
+        std::array<RegionEstimate, 3> result;
+        for (int c = 0; c < 3; ++c) {
+            double sum = 0.0;
+            for (int y = region.y; y < region.y + height; ++y)
+                for (int x = region.x; x < region.x + width; ++x)
+                    sum += beauty(y, x)[c];
+            result[c].mean = sum / (double(width) * height);
+        }
+        return result;
+    }
+
+    std::string describe() const {
+        if (!errors)
+            return fmt::format("{}: no half-buffers, taken as exact (a reference)", file);
+        return fmt::format("{}: pixels' noise correlated over {} pixels: κ = {:.3g}", file, radius,
+                           errors->correlationFactor());
+    }
+};
+
+int compareCommand(const CompareOptions &options) {
+    if (options.files.size() != 2)
+        throw NoriException("compare: expects two renders, A and B (got {})", options.files.size());
+    if (!(options.threshold > 0.0) || !std::isfinite(options.threshold))
+        throw NoriException("compare: --threshold must be a positive number of standard errors");
+    if (options.grid < 0)
+        throw NoriException("compare: --grid must be a positive number of regions per side");
+    if (options.radius < 0)
+        throw NoriException("compare: --correlation-radius must be at least 0 pixels");
+    const ComparedRender a(options.files[0], options.radius), b(options.files[1], options.radius);
+    const Eigen::Vector2i size = a.image.size();
+    if (b.image.size() != size)
+        throw NoriException("compare: {} is {}x{} but {} is {}x{}", a.file, size.x(), size.y(),
+                            b.file, b.image.size().x(), b.image.size().y());
+    if (!a.errors && !b.errors)
+        throw NoriException("compare: neither {} nor {} has half-buffers, so neither has a "
+                            "standard error: render at least one with --aovs variance",
+                            a.file, b.file);
+
+    std::vector<ImageRegion> regions{{"image", 0, 0, 0, 0}};
+    for (const std::string &text : options.regions) {
+        const size_t equals = text.find('=');
+        const std::string name = equals == std::string::npos ? text : text.substr(0, equals);
+        if (equals == std::string::npos || name.empty())
+            throw NoriException("compare: --region expects NAME=X,Y,W,H, got '{}'", text);
+        regions.push_back(parseImageRegion(name, text.substr(equals + 1), size));
+    }
+    if (options.grid > 0) {
+        if (options.grid > std::min(size.x(), size.y()))
+            throw NoriException("compare: --grid {} has more cells than the {}x{} image has "
+                                "pixels on a side",
+                                options.grid, size.x(), size.y());
+        for (int j = 0; j < options.grid; ++j)
+            for (int i = 0; i < options.grid; ++i) {
+                const int x0 = i * size.x() / options.grid, x1 = (i + 1) * size.x() / options.grid;
+                const int y0 = j * size.y() / options.grid, y1 = (j + 1) * size.y() / options.grid;
+                regions.push_back({fmt::format("cell{},{}", i, j), x0, y0, x1 - x0, y1 - y0});
+            }
+    }
+
+    fmt::print("A {}\nB {}\n", a.describe(), b.describe());
+    AgreementSettings settings;
+    settings.threshold = options.threshold;
+    // Columns: the means, their difference relative to B's, the standard error of the
+    // difference, z, and the smallest relative bias seen with 95 % power.
+    fmt::print("{:<14} {:>2} {:>12} {:>12} {:>10} {:>11} {:>8} {:>10}\n", "region", "", "A", "B",
+               "(A-B)/B", "std. error", "z", "detectable");
+    size_t disagreements = 0;
+    std::string worst;
+    double worstZ = 0.0;
+    for (const ImageRegion &region : regions) {
+        const std::array<RegionEstimate, 3> ofA = a.estimate(region), ofB = b.estimate(region);
+        for (int c = 0; c < 3; ++c) {
+            const AgreementCell cell = compareEstimates(ofA[c], ofB[c], settings);
+            const double sigma = std::hypot(ofA[c].standardError, ofB[c].standardError);
+            fmt::print(
+                "{:<14} {:>2} {:>12.6g} {:>12.6g} {:>+9.3f}% {:>11.3g} {:>+8.2f} {:>9.2f}%{}\n",
+                region.name, kChannelNames[c], ofA[c].mean, ofB[c].mean, 100.0 * cell.difference,
+                sigma, cell.z, 100.0 * cell.detectableBias, cell.agrees ? "" : "  DISAGREES");
+            if (!cell.agrees)
+                ++disagreements;
+            if (std::abs(cell.z) > std::abs(worstZ)) {
+                worstZ = cell.z;
+                worst = fmt::format("{} {}", region.name, kChannelNames[c]);
+            }
+        }
+    }
+    if (disagreements > 0) {
+        fmt::print("verdict: DISAGREE: {} of {} comparisons beyond {:g} standard errors (worst: "
+                   "{}, z = {:+.2f})\n",
+                   disagreements, 3 * regions.size(), options.threshold, worst, worstZ);
+        return 1;
+    }
+    fmt::print("verdict: agree: every |z| <= {:g} ({} comparisons; largest: {}, z = {:+.2f})\n",
+               options.threshold, 3 * regions.size(), worst.empty() ? "none" : worst, worstZ);
+    return 0;
+}
+
 int convertCommand(const ConvertOptions &options) {
     const std::vector<std::string> &files = options.files;
     const std::string &layer = options.layer;
@@ -279,9 +416,11 @@ int infoCommand(const InfoOptions &options, bool layerGiven) {
 int main(int argc, char **argv) {
     DenoiseOptions denoiseOptions;
     DiffOptions diffOptions;
+    CompareOptions compareOptions;
     ConvertOptions convertOptions;
     InfoOptions infoOptions;
-    CLI::App *denoise = nullptr, *diff = nullptr, *convert = nullptr, *info = nullptr;
+    CLI::App *denoise = nullptr, *diff = nullptr, *compare = nullptr, *convert = nullptr,
+             *info = nullptr;
     CLI::Option *infoLayer = nullptr;
     return runCommandLine(
         argc, argv, "nori-imgtool", "Operations on rendered images.",
@@ -330,6 +469,38 @@ int main(int argc, char **argv) {
                     "write the per-pixel absolute error in false colour (black, red, yellow, "
                     "white up to the largest error)")
                 ->type_name("ERROR.png");
+            compare = app.add_subcommand(
+                "compare",
+                "Says whether two renders of one scene agree within their noise: compares the "
+                "mean of each channel over the whole image (and each --region, --grid cell) in "
+                "standard errors, estimated from each render's half-buffers (render with "
+                "--aovs variance; the pixels' correlation through the filter is measured and "
+                "counted). A render without half-buffers is taken as an exact reference. "
+                "Prints a table and a verdict; exits 0 when every |z| is within the threshold, "
+                "1 when one is not (or on an error).");
+            compare->add_option("files", compareOptions.files, "the two renders (EXR)")
+                ->type_name("A.exr B.exr")
+                ->expected(2)
+                ->required();
+            compare
+                ->add_option("--region", compareOptions.regions,
+                             "also compare the W×H pixels from column X, row Y; repeatable")
+                ->type_name("NAME=X,Y,W,H");
+            compare
+                ->add_option("--grid", compareOptions.grid,
+                             "also compare each cell of an N×N grid over the image")
+                ->type_name("N");
+            compare
+                ->add_option("--threshold", compareOptions.threshold,
+                             "standard errors a difference may reach and still agree (default "
+                             "4: a correct pair disagrees on one comparison in 16,000)")
+                ->type_name("Z");
+            compare
+                ->add_option("--correlation-radius", compareOptions.radius,
+                             "how far apart two pixels' noise may be correlated, in pixels: "
+                             "twice the filter's radius (default 4, for the Gaussian and "
+                             "Mitchell filters of radius 2)")
+                ->type_name("PIXELS");
             convert = app.add_subcommand(
                 "convert", "Writes IN (EXR, PFM, HDR, PNG, JPEG) as OUT, in the format of OUT's "
                            "extension: .exr, .pfm, .hdr (linear floats) or .png (8 bits).");
@@ -366,6 +537,8 @@ int main(int argc, char **argv) {
                 return denoiseCommand(denoiseOptions);
             if (diff->parsed())
                 return diffCommand(diffOptions);
+            if (compare->parsed())
+                return compareCommand(compareOptions);
             if (convert->parsed())
                 return convertCommand(convertOptions);
             return infoCommand(infoOptions, infoLayer->count() > 0);

@@ -152,13 +152,13 @@ LayeredImage Film::develop(bool withWeights) const {
     LayeredImage result(m_size);
     const ImageBlock &beauty = merge(FilmBlock::kBeauty);
     result.addLayer("", {"R", "G", "B"}, beauty.toBitmap());
-    if (withWeights) {
+    const bool variance = std::find(m_aovs.begin(), m_aovs.end(), AOV::Variance) != m_aovs.end();
+    if (withWeights || variance)
         result.addChannel(kWeightChannel, filterWeights(beauty));
-        if (std::find(m_aovs.begin(), m_aovs.end(), AOV::Variance) != m_aovs.end()) {
-            const ImageBlock &even = merge(FilmBlock::kEvenHalf);
-            result.addLayer(kEvenHalfLayer, {"R", "G", "B"}, even.toBitmap());
-            result.addChannel(kEvenHalfWeightChannel, filterWeights(even));
-        }
+    if (variance) {
+        const ImageBlock &even = merge(FilmBlock::kEvenHalf);
+        result.addLayer(kEvenHalfLayer, {"R", "G", "B"}, even.toBitmap());
+        result.addChannel(kEvenHalfWeightChannel, filterWeights(even));
     }
     for (AOV aov : m_aovs) {
         Bitmap values(m_size);
