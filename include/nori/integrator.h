@@ -31,6 +31,10 @@ public:
     virtual void endPass(const Scene *scene) { (void)scene; }
     /// The most samples per pixel a pass of the render loop may take (0: no limit).
     virtual size_t maxSamplesPerPass() const { return 0; }
+    /// Whether Li accounts for participating media (<medium> in a scene): `nori
+    /// --test-plugin` then also compares the integrator with volpath on a scene with a
+    /// homogeneous and a heterogeneous medium. Integrators that ignore media keep false.
+    virtual bool handlesMedia() const { return false; }
     /// What the integrator did besides tracing camera paths, for `nori` to print after
     /// the render ("photon map: ..."); empty for most.
     virtual std::string renderSummary() const { return {}; }

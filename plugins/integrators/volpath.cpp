@@ -174,6 +174,8 @@ public:
         return radiance;
     }
 
+    bool handlesMedia() const override { return true; }
+
     std::string toString() const override {
         static const char *names[] = {"delta", "ratio", "raymarch"};
         return fmt::format("VolumetricPathTracer[maxDepth={}, rrDepth={}, transmittance={}{}, "

@@ -466,7 +466,7 @@ std::vector<AgreementScene> agreementMatrixScenes() {
     return {cornellBox(), glossyPlates(), skyWithSun(), deltaLights(),     texturedPlane(),
             media(),      instances(),    disney(),     lensCamera(false), lensCamera(true)};
 }
-std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXML) {
+std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXML, bool withMedia) {
     const Estimator reference = pathTracer("path_mis", 128);
     const Estimator tested{"tested", integratorXML, "independent", "", 128, ""};
     std::vector<AgreementScene> scenes;
@@ -518,6 +518,16 @@ std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXM
 
     for (AgreementScene &scene : scenes)
         scene.estimators = {reference, tested};
+
+    if (withMedia) {
+        // Against volpath (ratio tracking), the matrix's reference on this scene.
+        AgreementScene volumes = media();
+        Estimator volpath = volumes.estimators.front();
+        volpath.label = "volpath";
+        volpath.samplesPerPixel = 128;
+        volumes.estimators = {volpath, tested};
+        scenes.push_back(volumes);
+    }
     return scenes;
 }
 

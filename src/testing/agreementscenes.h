@@ -18,7 +18,9 @@ std::vector<AgreementScene> agreementMatrixScenes();
 /// The battery of a user's integrator (its <integrator> element): lights of very unequal
 /// power, delta lights, an environment map with a sun, glossy and specular surfaces; on
 /// each, the built-in path_mis first (estimator "path_mis") and the integrator second
-/// ("tested").
-std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXML);
+/// ("tested"). `withMedia`: also the matrix's scene of a homogeneous and a heterogeneous
+/// medium, with volpath first.
+std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXML,
+                                                 bool withMedia = false);
 
 } // namespace nori
