@@ -190,10 +190,10 @@ double largestDifferenceFromReference(bool plantSlip) {
 
 const std::vector<float> kAngles = {0.0f, 30.0f, 60.0f, 85.0f};
 
-/// Corners and middles of the parameter space for the χ² tests. Roughness stops at 0.25
-/// (α = 0.06) and clearcoatGloss at 0.6 (α = 0.04): sharper lobes fall inside one
-/// histogram cell, where the quadrature of the expected counts cannot resolve them (the
-/// mirror-limit test covers roughness 0).
+/// Corners and middles of the parameter space for the χ² tests on the sphere's histogram.
+/// Roughness stops at 0.25 (α = 0.06) and clearcoatGloss at 0.6 (α = 0.04) here: sharper
+/// lobes fall inside one histogram cell. tests/test_sharplobes.cpp tests roughness down
+/// to 0.05 in half-vector coordinates, and the mirror-limit test covers roughness 0.
 const std::vector<Parameters> kParameterSets = {
     {},
     {{"metallic", 0},

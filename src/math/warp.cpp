@@ -13,6 +13,25 @@ bool isUnit(const Vector3f &v) {
     return std::abs(v.squaredNorm() - 1.0f) < 1e-3f;
 }
 
+/// The unit direction at polar angle θ (given as tan²θ, up to +∞) and azimuth φ, as
+/// (tan θ cos φ, tan θ sin φ, 1)/√(1 + tan²θ): near the pole, where the lobes of smooth
+/// microfacets live, cos θ = 1/√(1 + tan²θ) rounds to 1 in float, and sin θ recovered
+/// from it (√(1 − cos²θ)) loses every digit (α = 0.0025: a direction in 40 drawn onto
+/// the pole itself); tan θ keeps them.
+Vector3f directionFromTan2(float tan2Theta, float phi) {
+    if (std::isinf(tan2Theta))
+        return Vector3f(std::cos(phi), std::sin(phi), 0.0f);
+    const float tanTheta = std::sqrt(tan2Theta), cosTheta = 1.0f / std::sqrt(1.0f + tan2Theta);
+    return Vector3f(tanTheta * cosTheta * std::cos(phi), tanTheta * cosTheta * std::sin(phi),
+                    cosTheta);
+}
+
+/// tan²θ of a unit vector from its components, (x² + y²)/z², which keeps its digits near
+/// the pole where (1 − z²)/z² cancels.
+float tan2ThetaOf(const Vector3f &m) {
+    return (m.x() * m.x() + m.y() * m.y()) / (m.z() * m.z());
+}
+
 /// Inverse of the 1D tent's CDF on [-1, 1].
 float tent1D(float u) {
     return u < 0.5f ? std::sqrt(2.0f * u) - 1.0f : 1.0f - std::sqrt(2.0f - 2.0f * u);
@@ -132,8 +151,7 @@ NORI_REPLACEABLE float Warp::squareToUniformSphereCapPdf(const Vector3f &v, floa
 NORI_REPLACEABLE Vector3f Warp::squareToBeckmann(const Point2f &sample, float alpha) {
     // Inverting the CDF of tan²θ: tan²θ = −α² ln(1 − u).
     const float tan2Theta = -alpha * alpha * std::log1p(-sample.x());
-    const float cosTheta = 1.0f / std::sqrt(1.0f + tan2Theta);
-    return sphericalDirection(cosTheta, 2.0f * kPi * sample.y());
+    return directionFromTan2(tan2Theta, 2.0f * kPi * sample.y());
 }
 
 NORI_REPLACEABLE float Warp::squareToBeckmannPdf(const Vector3f &m, float alpha) {
@@ -141,7 +159,7 @@ NORI_REPLACEABLE float Warp::squareToBeckmannPdf(const Vector3f &m, float alpha)
     // Below cos²θ ~ 1e-20, D has underflowed to 0 (and the formula would give 0/0).
     if (!isUnit(m) || m.z() <= 0.0f || cos2Theta < 1e-20f)
         return 0.0f;
-    const float tan2Theta = (1.0f - cos2Theta) / cos2Theta;
+    const float tan2Theta = tan2ThetaOf(m);
     const float d =
         std::exp(-tan2Theta / (alpha * alpha)) / (kPi * alpha * alpha * cos2Theta * cos2Theta);
     return d * m.z();
@@ -150,28 +168,33 @@ NORI_REPLACEABLE float Warp::squareToBeckmannPdf(const Vector3f &m, float alpha)
 NORI_REPLACEABLE Vector3f Warp::squareToGGX(const Point2f &sample, float alpha) {
     // Inverting the CDF of tan²θ: tan²θ = α² u/(1 − u).
     const float tan2Theta = alpha * alpha * sample.x() / (1.0f - sample.x());
-    const float cosTheta = 1.0f / std::sqrt(1.0f + tan2Theta);
-    return sphericalDirection(cosTheta, 2.0f * kPi * sample.y());
+    return directionFromTan2(tan2Theta, 2.0f * kPi * sample.y());
 }
 
 NORI_REPLACEABLE float Warp::squareToGGXPdf(const Vector3f &m, float alpha) {
     if (!isUnit(m) || m.z() <= 0.0f)
         return 0.0f;
-    // D = α²/(π cos⁴θ (α² + tan²θ)²) = α²/(π ((α² − 1) cos²θ + 1)²), the second form
-    // being finite at grazing angles.
+    // D = α²/(π cos⁴θ (α² + tan²θ)²) = α²/(π (α² cos²θ + sin²θ)²), the second form
+    // being finite at grazing angles, with sin²θ = x² + y² (not 1 − z², which cancels
+    // near the pole).
     const float alpha2 = alpha * alpha;
-    const float root = (alpha2 - 1.0f) * m.z() * m.z() + 1.0f;
+    const float root = alpha2 * m.z() * m.z() + m.x() * m.x() + m.y() * m.y();
     const float d = alpha2 / (kPi * root * root);
     return d * m.z();
 }
 
 NORI_REPLACEABLE Vector3f Warp::squareToGTR1(const Point2f &sample, float alpha) {
-    const float alpha2 = alpha * alpha;
-    // Burley 2012, B.2: cos²θ = (1 − α^{2(1−u)})/(1 − α²); α → 1 is the cosine lobe.
-    const float cos2Theta = std::abs(1.0f - alpha2) < 1e-4f
-                                ? 1.0f - sample.x()
-                                : (1.0f - std::pow(alpha2, 1.0f - sample.x())) / (1.0f - alpha2);
-    return sphericalDirection(safeSqrt(cos2Theta), 2.0f * kPi * sample.y());
+    const float alpha2 = alpha * alpha, u = sample.x();
+    // Burley 2012, B.2: cos²θ = (1 − α^{2(1−u)})/(1 − α²), so that
+    // tan²θ = (α^{2(1−u)} − α²)/(1 − α^{2(1−u)}) = α²(α^{−2u} − 1)/(1 − α^{2(1−u)}),
+    // written with expm1 to keep its digits near the pole; α → 1 is the cosine lobe,
+    // tan²θ = u/(1 − u).
+    const float logAlpha2 = std::log(alpha2);
+    const float tan2Theta =
+        std::abs(1.0f - alpha2) < 1e-4f
+            ? u / (1.0f - u)
+            : alpha2 * std::expm1(-u * logAlpha2) / -std::expm1((1.0f - u) * logAlpha2);
+    return directionFromTan2(tan2Theta, 2.0f * kPi * sample.y());
 }
 
 NORI_REPLACEABLE float Warp::squareToGTR1Pdf(const Vector3f &m, float alpha) {
@@ -181,7 +204,9 @@ NORI_REPLACEABLE float Warp::squareToGTR1Pdf(const Vector3f &m, float alpha) {
     const float d =
         std::abs(1.0f - alpha2) < 1e-4f
             ? kInvPi
-            : (alpha2 - 1.0f) / (kPi * std::log(alpha2) * (1.0f + (alpha2 - 1.0f) * m.z() * m.z()));
+            // 1 + (α² − 1) cos²θ = α² cos²θ + sin²θ, with sin²θ = x² + y².
+            : (alpha2 - 1.0f) / (kPi * std::log(alpha2) *
+                                 (alpha2 * m.z() * m.z() + m.x() * m.x() + m.y() * m.y()));
     return d * m.z();
 }
 
