@@ -27,10 +27,9 @@ std::shared_ptr<BSDF> makeBSDF(const std::string &xml) {
     return bsdf;
 }
 
-/// Incident direction at `degrees` from the normal (beyond 90: from inside).
+/// Incident direction at `degrees` from the normal (beyond 90: from inside), azimuth 0.
 Vector3f incident(float degrees) {
-    const float theta = degToRad(degrees);
-    return Vector3f(std::sin(theta), 0.0f, std::cos(theta));
+    return nori::testing::incidentDirection(degrees);
 }
 
 /// Mean and standard error of the sampled weight (luminance), with refracted weights

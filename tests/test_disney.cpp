@@ -49,12 +49,10 @@ std::shared_ptr<BSDF> disney(const Parameters &parameters,
     return bsdf;
 }
 
-/// Incident direction at `degrees` from the normal, at an azimuth of 0.5 rad so that the
-/// anisotropic lobe is seen neither along its tangent nor across it.
+/// Incident direction at `degrees` from the normal, at an azimuth of 0.5 rad so that
+/// anisotropic lobes are seen neither along their tangent nor across it.
 Vector3f incident(float degrees) {
-    const float theta = degToRad(degrees);
-    return Vector3f(std::sin(theta) * std::cos(0.5f), std::sin(theta) * std::sin(0.5f),
-                    std::cos(theta));
+    return nori::testing::incidentDirection(degrees, 0.5f);
 }
 
 // ---------------------------------------------------------------------------------------

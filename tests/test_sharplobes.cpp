@@ -35,12 +35,10 @@ std::shared_ptr<BSDF> roughConductor(float alpha) {
     return bsdf;
 }
 
-/// Incident direction at `degrees` from the normal, at an azimuth of 0.5 rad (as the
-/// Disney tests), so that anisotropic lobes are seen obliquely.
+/// Incident direction at `degrees` from the normal, at an azimuth of 0.5 rad so that
+/// anisotropic lobes are seen neither along their tangent nor across it.
 Vector3f incident(float degrees) {
-    const float theta = degToRad(degrees);
-    return Vector3f(std::sin(theta) * std::cos(0.5f), std::sin(theta) * std::sin(0.5f),
-                    std::cos(theta));
+    return nori::testing::incidentDirection(degrees, 0.5f);
 }
 
 /// The χ² test in half-vector coordinates of width `alpha`: a 24 × 24 histogram and
@@ -56,6 +54,17 @@ ChiSquareReport halfVectorChiSquare(const SamplingRoutine &routine, const Vector
 }
 
 const std::vector<float> kAngles = {0.0f, 30.0f, 60.0f, 85.0f};
+
+/// The half-vector χ² of `bsdf` at every angle of kAngles, each a CHECK.
+void checkSharpLobe(const BSDF &bsdf, double alpha, uint64_t &seed, double level) {
+    for (const float angle : kAngles) {
+        const Vector3f wi = incident(angle);
+        const ChiSquareReport report =
+            halfVectorChiSquare(bsdfRoutine(bsdf, wi), wi, alpha, ++seed, level);
+        INFO(bsdf.toString() << " at " << angle << " degrees: " << report.result.message);
+        CHECK(report.result.passed);
+    }
+}
 
 } // namespace
 
@@ -92,13 +101,7 @@ TEST_CASE("Disney BSDF samples its pdf down to roughness 0.05", "[disney][chi2]"
     for (const Parameters &parameters : sets) {
         auto bsdf = disney(parameters);
         const double alpha = std::max(0.001, std::pow(double(parameters.at("roughness")), 2.0));
-        for (const float angle : kAngles) {
-            const Vector3f wi = incident(angle);
-            const ChiSquareReport report =
-                halfVectorChiSquare(bsdfRoutine(*bsdf, wi), wi, alpha, ++seed, level);
-            INFO(bsdf->toString() << " at " << angle << " degrees: " << report.result.message);
-            CHECK(report.result.passed);
-        }
+        checkSharpLobe(*bsdf, alpha, seed, level);
     }
 }
 
@@ -127,14 +130,6 @@ TEST_CASE("Rough conductors sample their pdf down to alpha 0.0025", "[chi2]") {
     const std::vector<float> alphas = {0.0025f, 0.01f, 0.05f};
     const double level = sidakCorrection(0.01, static_cast<int>(alphas.size() * kAngles.size()));
     uint64_t seed = 600;
-    for (const float alpha : alphas) {
-        auto bsdf = roughConductor(alpha);
-        for (const float angle : kAngles) {
-            const Vector3f wi = incident(angle);
-            const ChiSquareReport report =
-                halfVectorChiSquare(bsdfRoutine(*bsdf, wi), wi, alpha, ++seed, level);
-            INFO(bsdf->toString() << " at " << angle << " degrees: " << report.result.message);
-            CHECK(report.result.passed);
-        }
-    }
+    for (const float alpha : alphas)
+        checkSharpLobe(*roughConductor(alpha), alpha, seed, level);
 }

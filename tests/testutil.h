@@ -74,6 +74,14 @@ ChiSquareReport chiSquare(const SamplingRoutine &routine, uint64_t seed, double 
 /// Whether two images have the same size and bit-identical pixels.
 bool identicalImages(const Bitmap &a, const Bitmap &b);
 
+/// The unit direction at `degrees` from the normal +z (beyond 90: from inside) and at
+/// `azimuth` radians about it: the incident directions of BSDF tests.
+inline Vector3f incidentDirection(float degrees, float azimuth = 0.0f) {
+    const float theta = degToRad(degrees);
+    return Vector3f(std::sin(theta) * std::cos(azimuth), std::sin(theta) * std::sin(azimuth),
+                    std::cos(theta));
+}
+
 /// The distance from point p to the line of the ray.
 inline float distanceToRay(const Point3f &p, const Ray3f &ray) {
     const Vector3f d = ray.d.normalized();
