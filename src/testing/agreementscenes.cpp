@@ -45,8 +45,8 @@ std::string boxOBJ(const Vector3f &lower, const Vector3f &upper) {
                  "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\n"; // −z, +z
 }
 
-/// A latitude-longitude sky: blue above the horizon, brighter toward the zenith, a dark
-/// ground below, and a sun of 3×3 texels of radiance `sun` at 40° from the zenith.
+} // namespace
+
 FileWriter skyMap(float sun) {
     return [sun](const std::string &path) {
         const int width = 64, height = 32;
@@ -63,6 +63,8 @@ FileWriter skyMap(float sun) {
         map.saveEXR(path);
     };
 }
+
+namespace {
 
 /// A colour checkerboard of 4×4-texel squares on a 32×32 image, darkening along u: the
 /// ramp makes every region's mean depend on where the texels fall (a periodic pattern

@@ -8,6 +8,11 @@
 
 namespace nori {
 
+/// The matrix's sky (an environment map file, written at the path given): blue above
+/// the horizon, brighter toward the zenith, a dark ground, and a sun of 3×3 texels of
+/// the 64×32 map, of radiance `sun`, at 40° from the zenith.
+std::function<void(const std::string &path)> skyMap(float sun);
+
 /// The agreement matrix: Cornell box, glossy plates, a sky with a sun over diffuse, rough
 /// conductor and glass, spot and directional lights, a textured normal-mapped plane,
 /// homogeneous and heterogeneous media with Henyey–Greenstein g = ±0.7, instanced
