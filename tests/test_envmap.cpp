@@ -25,7 +25,7 @@ std::string writeMap(const TempDir &dir, const std::string &name, int width, int
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
             image(y, x) = value(x, y);
-    const std::string file = (dir.path() / name).string();
+    std::string file = (dir.path() / name).string();
     image.saveEXR(file);
     return file;
 }
