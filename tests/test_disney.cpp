@@ -36,7 +36,9 @@ std::string disneyXML(const Parameters &parameters, const Color3f &baseColor,
         fmt::format(R"(<bsdf type="disney"><color name="baseColor" value="{}, {}, {}"/>)",
                     baseColor.r(), baseColor.g(), baseColor.b());
     for (const auto &[name, value] : parameters)
-        xml += fmt::format(R"(<float name="{}" value="{}"/>)", name, value);
+        xml += name == "energyConserving"
+                   ? fmt::format(R"(<boolean name="{}" value="{}"/>)", name, value != 0.0f)
+                   : fmt::format(R"(<float name="{}" value="{}"/>)", name, value);
     return xml + fmt::format(R"(<string name="lobes" value="{}"/></bsdf>)", lobes);
 }
 
@@ -467,6 +469,63 @@ TEST_CASE("Disney's albedo is the sum of its lobes' albedos", "[disney][energy]"
         }
     std::cout << "Disney (white baseColor): largest directional albedo " << largest << ", " << where
               << "; at roughness 0: " << largestSmooth << "\n";
+}
+
+TEST_CASE("Energy-conserving Disney reflects at most what arrives, at every corner",
+          "[disney][energy]") {
+    // Every corner of the ten parameters, under a white and a blue base colour (the tints
+    // divide by luminance: ×10 in blue), at three angles: the layered model's directional
+    // albedo stays within 1 (beyond 4 standard errors of the estimate), per channel.
+    // Negative control: Burley's additive model, the same corners, exceeds it (1.70).
+    const std::vector<std::string> names = {
+        "metallic",    "subsurface", "specular",  "specularTint", "roughness",
+        "anisotropic", "sheen",      "sheenTint", "clearcoat",    "clearcoatGloss"};
+    double largest = 0.0, smallestWhite = 1.0, largestAdditive = 0.0;
+    std::string where, whereSmallest;
+    int exceeded = 0, additiveExceeded = 0;
+    for (Parameters p : corners(names))
+        for (const Color3f &base : {Color3f(1.0f), Color3f(0.0f, 0.0f, 1.0f)}) {
+            const auto additive = disney(p, base);
+            p["energyConserving"] = 1.0f;
+            const auto layered = disney(p, base);
+            p.erase("energyConserving");
+            // More samples at grazing angles, where the albedos are largest and noisiest.
+            for (const auto &[angle, samples] :
+                 {std::pair{0.0f, 3000}, std::pair{85.0f, 8000}, std::pair{89.0f, 20000}}) {
+                const Vector3f wi = incident(angle);
+                const auto [mean, error] = albedo(*layered, wi, samples);
+                const bool within = (mean <= 1.0f + 4.0f * error + 1e-6f).all();
+                if (!within) {
+                    ++exceeded;
+                    UNSCOPED_INFO(layered->toString()
+                                  << " at " << angle << ": albedo " << mean.transpose() << " ± "
+                                  << error.transpose());
+                }
+                if (mean.maxCoeff() > largest) {
+                    largest = mean.maxCoeff();
+                    where = fmt::format("{} at {} degrees", layered->toString(), angle);
+                }
+                // The light layering loses: white, metallic 0, roughness 0 (no retro-
+                // reflection gain to divide away), at normal incidence.
+                if (base.b() == 1.0f && base.r() == 1.0f && angle == 0.0f &&
+                    p.at("metallic") == 0.0f && mean.r() < smallestWhite) {
+                    smallestWhite = mean.r();
+                    whereSmallest = layered->toString();
+                }
+                const auto [additiveMean, additiveError] = albedo(*additive, wi, 2000);
+                if (!(additiveMean <= 1.0f + 4.0f * additiveError + 1e-6f).all())
+                    ++additiveExceeded;
+                largestAdditive =
+                    std::max(largestAdditive, static_cast<double>(additiveMean.maxCoeff()));
+            }
+        }
+    CHECK(exceeded == 0);
+    CHECK(additiveExceeded > 0);
+    std::cout << "Energy-conserving Disney: largest directional albedo " << largest << " (" << where
+              << "); smallest at normal incidence, white, metallic 0: " << smallestWhite << " ("
+              << whereSmallest << ")"
+              << "; additive model at the same corners: largest " << largestAdditive << ", "
+              << additiveExceeded << " cases above 1\n";
 }
 
 TEST_CASE("Disney's diffuse lobe has its integral's albedo, retro-reflection gain included",
