@@ -2,6 +2,7 @@
 // emission distribution (χ²), the kd-tree against brute force, and the photon mappers
 // against closed forms: a diffuse plane under a spherical light (Lambert), the white
 // furnace, and a caustic against path_mis. Each statistical test has a negative control.
+#include "testing/halfbuffers.h"
 #include "testutil.h"
 
 #include <nori/bitmap.h>
@@ -544,14 +545,16 @@ TEST_CASE("Photon mappers render the same image with one and two threads",
     }
 }
 
-TEST_CASE("The progressive photon mapper agrees with path_mis on a caustic, with fewer rays",
+TEST_CASE("The progressive photon mapper agrees with path_mis on a caustic, and at equal time "
+          "it is the closer",
           "[photons][integrators]") {
     // A glass ball on a diffuse floor lit from the side by a small spherical light: the
     // camera looks down at the caustic beside the ball, where a path tracer finds the
     // light only by BSDF-sampled paths through the glass.
-    const auto caustic = [](const std::string &integrator) {
+    const auto caustic = [](const std::string &integrator, int samples, int seed, float radiance) {
         return loadScene(fmt::format(R"(<scene> {}
-            <sampler type="independent"><integer name="sampleCount" value="8192"/></sampler>
+            <sampler type="independent"><integer name="sampleCount" value="{}"/>
+                <integer name="seed" value="{}"/></sampler>
             <camera type="perspective"><float name="fov" value="30"/>
                 <integer name="width" value="32"/><integer name="height" value="32"/>
                 <transform name="toWorld"><lookat origin="-0.65, 1.6, 0.001" target="-0.65, 0, 0" up="0, 0, -1"/></transform>
@@ -563,72 +566,105 @@ TEST_CASE("The progressive photon mapper agrees with path_mis on a caustic, with
                 <bsdf type="dielectric"/></mesh>
             <mesh type="sphere"><point name="center" value="1.2, 0.9, 0"/><float name="radius" value="0.04"/>
                 <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
-                <emitter type="area"><color name="radiance" value="140.625"/></emitter></mesh>
+                <emitter type="area"><color name="radiance" value="{}"/></emitter></mesh>
             </scene>)",
-                                     integrator),
+                                     integrator, samples, seed, radiance),
                          std::string(NORI_SOURCE_DIR) + "/scenes/textured/meshes");
     };
-    RenderOptions options = quietOptions(0);
-    options.aovs = {AOV::Variance};
-    auto reference = caustic(R"(<integrator type="path_mis"/>)");
-    const RenderResult path = renderScene(*reference, options);
-
-    RenderOptions progressiveOptions = quietOptions(0);
-    progressiveOptions.samplesPerPixel = 32;
-    auto progressive = caustic(R"(<integrator type="progressivephotonmapper">
+    const std::string pathMis = R"(<integrator type="path_mis"/>)";
+    const std::string progressive = R"(<integrator type="progressivephotonmapper">
         <integer name="photonCount" value="50000"/><float name="photonRadius" value="0.03"/>
-        </integrator>)");
-    const RenderResult photons = renderScene(*progressive, progressiveOptions);
-
-    // path_mis with as many rays as the photon mapper traced (photons and camera paths):
-    // an equal-cost comparison that, unlike equal time, does not depend on the machine's
-    // load. scripts/bench_photons.sh measures the equal-time figures.
-    const double raysPerSample = double(reference->rayCount()) / double(path.samplesTaken);
-    RenderOptions equalTime = quietOptions(0);
-    equalTime.samplesPerPixel = std::max<size_t>(
-        1, static_cast<size_t>(double(progressive->rayCount()) / raysPerSample / (32.0 * 32.0)));
-    auto short_ = caustic(R"(<integrator type="path_mis"/>)");
-    const RenderResult pathEqualTime = renderScene(*short_, equalTime);
-
+        </integrator>)";
     // The caustic region: a fixed rectangle of pixels around the caustic, with a margin
     // of two pixels or more on every side where the floor is dark (< 0.02) in a long
     // photon-mapped render. Fixed, not chosen from the noisy images, whose noise would
     // then bias the region's mean.
-    const Bitmap &ref = path.image;
-    const Bitmap variance = path.layers.layer("variance");
-    std::vector<std::pair<int, int>> region;
-    for (int y = 8; y < 24; ++y)
-        for (int x = 8; x < 32; ++x)
-            region.emplace_back(y, x);
-    REQUIRE(region.size() >= 10);
-    double referenceSum = 0.0, referenceVariance = 0.0, photonSum = 0.0;
-    double photonSquaredError = 0.0, pathSquaredError = 0.0;
-    for (auto [y, x] : region) {
-        const double r = ref(y, x).getLuminance();
-        referenceSum += r;
-        referenceVariance += variance(y, x).getLuminance();
-        photonSum += photons.image(y, x).getLuminance();
-        photonSquaredError += std::pow(photons.image(y, x).getLuminance() - r, 2);
-        pathSquaredError += std::pow(pathEqualTime.image(y, x).getLuminance() - r, 2);
-    }
-    const double n = static_cast<double>(region.size());
-    const double referenceMean = referenceSum / n, photonMean = photonSum / n;
-    const double referenceError = std::sqrt(referenceVariance) / n;
-    // Both errors are against a noisy reference; its variance, the same in both, is taken
-    // out so that they measure the renders (E[(a − ref)²] = E[(a − L)²] + Var ref).
-    const double photonRmse =
-        std::sqrt(std::max(0.0, (photonSquaredError - referenceVariance) / n));
-    const double pathRmse = std::sqrt(std::max(0.0, (pathSquaredError - referenceVariance) / n));
-    CAPTURE(region.size(), referenceMean, referenceError, photonMean, path.seconds, photons.seconds,
-            pathEqualTime.samplesPerPixel, photonRmse, pathRmse);
-    // The region means agree within 3 standard errors of the reference plus 3% for the
-    // photon mapper's remaining blur and noise after 32 passes.
-    CHECK(std::abs(photonMean - referenceMean) <= 3.0 * referenceError + 0.03 * referenceMean);
-    // With as many rays the photon mapper is the closer of the two, pixel by pixel.
-    CHECK(photonRmse < pathRmse);
-    WARN(fmt::format("caustic: path_mis 8192 spp in {:.2f} s (region mean {:.4f} ± {:.4f}); "
-                     "progressive photon mapper 32 passes in {:.2f} s (mean {:.4f}, RMSE {:.4f}); "
-                     "path_mis with as many rays {} spp, RMSE {:.4f}",
-                     path.seconds, referenceMean, referenceError, photons.seconds, photonMean,
-                     photonRmse, pathEqualTime.samplesPerPixel, pathRmse));
+    const ImageRegion region{"caustic", 8, 8, 24, 16};
+
+    // The reference: path_mis at 16384 spp, its region mean's standard error from its
+    // half-buffers, the pixels' correlation through the filter counted.
+    RenderOptions referenceOptions = quietOptions(0);
+    referenceOptions.aovs = {AOV::Variance};
+    const RenderResult reference =
+        renderScene(*caustic(pathMis, 16384, 1, 140.625f), referenceOptions);
+    const RegionEstimate referenceMean = HalfBufferErrors(reference.layers).estimate(region)[0];
+    const Bitmap referenceVariance = reference.layers.layer("variance");
+
+    // Four renders each of the photon mapper and of path_mis, every one given the same
+    // time (the photon mapper's first map, traced before the first pass, counted).
+    constexpr double kSeconds = 1.5;
+    constexpr int kRenders = 4;
+    RenderOptions timed = quietOptions(0);
+    timed.timeBudget = kSeconds;
+    struct Renders {
+        std::vector<double> means; ///< each render's region mean
+        double squaredError = 0.0; ///< Σ over renders and pixels of (pixel − reference)²
+        size_t passes = 0, samples = 0;
+        double seconds = 0.0;
+    };
+    double referenceVarianceSum = 0.0; // Σ over the region's pixels of the reference's variance
+    for (int y = region.y; y < region.y + region.height; ++y)
+        for (int x = region.x; x < region.x + region.width; ++x)
+            referenceVarianceSum += referenceVariance(y, x).r();
+    const auto renderTimed = [&](const std::string &integrator, float radiance, int renders) {
+        Renders out;
+        for (int seed = 1; seed <= renders; ++seed) {
+            const RenderResult render =
+                renderScene(*caustic(integrator, 1 << 20, 100 + seed, radiance), timed);
+            double sum = 0.0;
+            for (int y = region.y; y < region.y + region.height; ++y)
+                for (int x = region.x; x < region.x + region.width; ++x) {
+                    sum += render.image(y, x).r();
+                    out.squaredError +=
+                        std::pow(render.image(y, x).r() - reference.image(y, x).r(), 2);
+                }
+            out.means.push_back(sum / (region.width * region.height));
+            out.passes += render.passes;
+            out.samples += render.samplesPerPixel;
+            out.seconds += render.seconds;
+        }
+        return out;
+    };
+    const Renders photons = renderTimed(progressive, 140.625f, kRenders);
+    const Renders paths = renderTimed(pathMis, 140.625f, kRenders);
+    // RMSE over the region's pixels against the noisy reference, whose variance (the same
+    // in both) is taken out: E[(a − ref)²] = E[(a − L)²] + Var ref.
+    const double pixels = static_cast<double>(region.width * region.height) * kRenders;
+    const auto rmse = [&](const Renders &r) {
+        return std::sqrt(
+            std::max(0.0, (r.squaredError - kRenders * referenceVarianceSum) / pixels));
+    };
+    RunningMoments photonMoments;
+    for (double mean : photons.means)
+        photonMoments.add(mean);
+    const RegionEstimate photonMean{photonMoments.mean,
+                                    std::sqrt(photonMoments.variance() / kRenders)};
+    // The photon mapper's region mean against the reference's, in standard errors of both
+    // (the photon mapper's from its four independent renders: one photon map per pass
+    // correlates all its pixels, so its half-buffers would not do).
+    const double combined = std::hypot(referenceMean.standardError, photonMean.standardError);
+    const double z = (photonMean.mean - referenceMean.mean) / combined;
+    CAPTURE(referenceMean.mean, referenceMean.standardError, photonMean.mean,
+            photonMean.standardError, z, photons.passes, paths.samples, rmse(photons), rmse(paths));
+    CHECK(std::abs(z) <= 4.0);
+    // The smallest bias this sees with 95 % power: (4 + 1.645) standard errors.
+    const double detectable = (4.0 + 1.645) * combined / referenceMean.mean;
+    // At equal time the photon mapper is the closer of the two, pixel by pixel.
+    CHECK(rmse(photons) < rmse(paths));
+    // Negative control: a light 25 % brighter, one render, is told apart.
+    const Renders brighter = renderTimed(progressive, 1.25f * 140.625f, 1);
+    const double controlZ = (brighter.means[0] - referenceMean.mean) /
+                            std::hypot(referenceMean.standardError,
+                                       photonMean.standardError * std::sqrt(double(kRenders)));
+    CAPTURE(controlZ);
+    CHECK(std::abs(controlZ) > 4.0);
+    WARN(fmt::format(
+        "caustic: path_mis reference {:.4f} ± {:.4f} (16384 spp, {:.1f} s); in {} s each: "
+        "progressive photon mapper {:.4f} ± {:.4f} ({:+.2f} SE; {:.1f} passes on average), RMSE "
+        "{:.4f}; path_mis {:.0f} spp on average, RMSE {:.4f}; bias seen with 95 % power: {:.1f} %; "
+        "a light 25 % brighter: {:+.1f} SE",
+        referenceMean.mean, referenceMean.standardError, reference.seconds, kSeconds,
+        photonMean.mean, photonMean.standardError, z, double(photons.passes) / kRenders,
+        rmse(photons), double(paths.samples) / kRenders, rmse(paths), 100.0 * detectable,
+        controlZ));
 }

@@ -38,8 +38,9 @@ struct RenderOptions {
     /// When it becomes true, no new sample is started and the passes finished so far are
     /// returned (what SIGINT does): the pass under way is dropped.
     const std::atomic<bool> *cancel = nullptr;
-    /// A time budget in seconds (0: none): passes are rendered until it is spent, the
-    /// last one shortened to fit, or until samplesPerPixel, whichever comes first.
+    /// A time budget in seconds (0: none), counted from before the integrator's
+    /// preprocessing: passes are rendered until it is spent, the last one shortened to
+    /// fit, or until samplesPerPixel, whichever comes first.
     double timeBudget = 0.0;
     /// AOV layers to record besides the integrator's own `aovs`.
     std::vector<AOV> aovs;
@@ -65,7 +66,7 @@ struct RenderResult {
     size_t samplesTaken = 0;          ///< camera samples in the image
     size_t convergedPixels = 0;       ///< pixels adaptive sampling stopped early
     size_t invalidSamples = 0;        ///< NaN, infinite or negative radiance; not splatted
-    double seconds = 0.0;
+    double seconds = 0.0;             ///< the whole render, preprocessing included
 };
 
 /// The number of threads used when RenderOptions::threads is 0.

@@ -161,8 +161,9 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
     app.add_option("--spp", texts.spp, "samples per pixel, overriding the scene's sampler")
         ->type_name("N");
     app.add_option("--time", texts.time,
-                   "time budget: render passes until it is spent (the last one shortened to "
-                   "fit) or until the sample count, whichever is first")
+                   "time budget, the integrator's preparation (a photon map) included: render "
+                   "passes until it is spent (the last one shortened to fit) or until the "
+                   "sample count, whichever is first")
         ->type_name("SECONDS");
     app.add_option("--aovs", texts.aovs,
                    "AOV layers to add to the EXR, e.g. albedo,normal (from albedo, normal, "

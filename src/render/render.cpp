@@ -150,16 +150,20 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     const FilterSampler filterSampler(camera->getReconstructionFilter());
 
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    // The time budget and the reported time count the integrator's preprocessing (a
+    // photon map, a light BVH): it is part of what the render costs.
+    const auto start = std::chrono::steady_clock::now();
+    auto secondsSince = [](std::chrono::steady_clock::time_point from) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - from).count();
+    };
+    auto elapsedSeconds = [&] { return secondsSince(start); };
     // The integrator's own parallel work (a photon map) keeps to the threads asked for.
     arena.execute([&] { scene.getIntegrator()->preprocess(&scene); });
+    const auto passesStart = std::chrono::steady_clock::now();
 
     RenderResult result;
     result.targetSamplesPerPixel = targetSpp;
     const size_t pixelCount = static_cast<size_t>(outputSize.prod());
-    const auto start = std::chrono::steady_clock::now();
-    auto elapsedSeconds = [&start] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
     size_t samplesDone = 0; // for the progress callback: stopped pixels count as done
     std::mutex mutex;
 
@@ -173,8 +177,9 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
             passSize = std::min(passSize, integrator->maxSamplesPerPass());
         if (options.timeBudget > 0.0 && sppDone > 0) {
             // Shorten the pass to what the measured rate says fits in the budget left.
+            // The rate from the passes alone; the budget left from the whole render.
             const double elapsed = elapsedSeconds();
-            const double secondsPerSpp = elapsed / static_cast<double>(sppDone);
+            const double secondsPerSpp = secondsSince(passesStart) / static_cast<double>(sppDone);
             const double sppLeft = (options.timeBudget - elapsed) / secondsPerSpp;
             if (sppLeft < 1.0)
                 break;
