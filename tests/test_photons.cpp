@@ -101,7 +101,7 @@ std::string writeEnvironment(const TempDir &dir) {
         for (int x = 0; x < 32; ++x)
             map(y, x) = Color3f(0.2f + 0.05f * x, 0.5f, 0.1f + 0.1f * y);
     map(4, 9) = Color3f(40.0f, 30.0f, 20.0f);
-    const std::string path = (dir.path() / "sky.exr").string();
+    std::string path = (dir.path() / "sky.exr").string();
     map.saveEXR(path);
     return path;
 }
