@@ -8,10 +8,14 @@
 //      independent samples) is subtracted from every MSE before the ratio.
 //   2. The time overhead of passes (1, 1, 2, ..., 64 spp) over rendering each block at
 //      its full sample count in one pass (the loop before passes), best of 3.
-//   3. Adaptive sampling on the same box at equal time, and its bias on a white furnace
-//      with a known answer (a t-test over independent pixels).
+//   3. Adaptive sampling against 64 spp everywhere at equal time (the adaptive render
+//      gets the uniform one's time), relMSE against the independent reference, on three
+//      scenes (the two boxes and Veach's glossy plates), as ratios per seed with their
+//      spread; and its bias on a white furnace with a known answer (a t-test over
+//      independent pixels).
 //
 //   nori-bench-samplers [--size N] [--reference-spp N] [--seeds N] [--threads N]
+//                       [--section samplers|overhead|adaptive|bias]
 #include "app/cli.h"
 #include <nori/bitmap.h>
 #include <nori/filesystem.h>
@@ -30,6 +34,7 @@ namespace {
 
 struct Settings {
     int size = 128, referenceSpp = 4096, seeds = 8, threads = 0;
+    std::string section; ///< empty: every section
 };
 
 /// The Cornell box, its sphere diffuse unless `defines` says otherwise.
@@ -115,31 +120,78 @@ void passOverheadFigures(const Settings &settings) {
 }
 
 void adaptiveFigures(const Settings &settings) {
-    const RenderResult reference =
-        renderBox(settings, {{"sampler", "sobol"}, {"spp", std::to_string(settings.referenceSpp)}});
-    // Adaptive sampling reconstructs pixels by filter importance sampling, which keeps
-    // the noise of neighbouring pixels apart: the baseline does too.
-    RenderOptions filterSampled;
-    filterSampled.filterImportanceSampling = true;
-    const RenderResult uniform =
-        render(*cornellBox(settings, {{"spp", "64"}}), settings, filterSampled);
-    const double uniformMse = meanSquaredError(uniform.image, reference.image);
-    std::cout << fmt::format("adaptive sampling, path_mis on the box (filter importance "
-                             "sampling): 64 spp everywhere in {:.2f} s: MSE {:.3e}\n",
-                             uniform.seconds, uniformMse);
-    for (const char *tolerance : {"0.02", "0.05", "0.1"}) {
-        // At most 4096 spp, within the time the uniform render took.
-        RenderOptions options = filterSampled;
-        options.timeBudget = uniform.seconds;
-        const RenderResult adaptive = render(
-            *cornellBox(settings, {{"spp", "4096"}, {"tolerance", tolerance}}), settings, options);
-        const double mse = meanSquaredError(adaptive.image, reference.image);
-        std::cout << fmt::format("  maxTolerance {}: {:.1f} spp on average, {} of {} pixels "
-                                 "stopped, {:.2f} s: MSE {:.3e} ({:.2f}x of uniform)\n",
-                                 tolerance,
-                                 double(adaptive.samplesTaken) / (settings.size * settings.size),
-                                 adaptive.convergedPixels, settings.size * settings.size,
-                                 adaptive.seconds, mse, mse / uniformMse);
+    struct BenchScene {
+        std::string name, file;
+        Defines defines;
+    };
+    const std::string size = std::to_string(settings.size);
+    const std::vector<BenchScene> scenes = {
+        {"Cornell box, diffuse sphere", "cbox/cbox.xml", {{"size", size}, {"sphere", "diffuse"}}},
+        {"Cornell box, glass sphere", "cbox/cbox.xml", {{"size", size}, {"sphere", "dielectric"}}},
+        {"Veach's glossy plates",
+         "veach/veach.xml",
+         {{"width", size},
+          {"height", std::to_string(settings.size * 3 / 5)},
+          {"integrator", "path_mis"}}}};
+    const std::vector<std::string> tolerances = {"0.02", "0.05", "0.1"};
+    for (const BenchScene &benchScene : scenes) {
+        auto load = [&](Defines defines) {
+            for (const auto &[name, value] : benchScene.defines)
+                defines.emplace(name, value);
+            return std::dynamic_pointer_cast<Scene>(loadFromXML(
+                std::string(NORI_SOURCE_DIR) + "/scenes/" + benchScene.file, LoadOptions(defines)));
+        };
+        const RenderResult reference = render(
+            *load({{"spp", std::to_string(settings.referenceSpp)}, {"seed", "0"}}), settings);
+        // Adaptive sampling reconstructs pixels by filter importance sampling, which keeps
+        // the noise of neighbouring pixels apart: the uniform renders do too.
+        RenderOptions filterSampled;
+        filterSampled.filterImportanceSampling = true;
+        RunningMoments uniformError, uniformSeconds;
+        std::vector<RunningMoments> ratios(tolerances.size()), spp(tolerances.size());
+        std::vector<double> uniformErrors;
+        std::vector<std::vector<double>> adaptiveErrors(tolerances.size());
+        for (int seed = 1; seed <= settings.seeds; ++seed) {
+            const RenderResult uniform = render(
+                *load({{"spp", "64"}, {"seed", std::to_string(seed)}}), settings, filterSampled);
+            uniformErrors.push_back(relativeMeanSquaredError(uniform.image, reference.image));
+            uniformSeconds.add(uniform.seconds);
+            for (size_t k = 0; k < tolerances.size(); ++k) {
+                // At most 4096 spp, within the time the uniform render took.
+                RenderOptions options = filterSampled;
+                options.timeBudget = uniform.seconds;
+                const RenderResult adaptive = render(*load({{"spp", "4096"},
+                                                            {"tolerance", tolerances[k]},
+                                                            {"seed", std::to_string(seed)}}),
+                                                     settings, options);
+                adaptiveErrors[k].push_back(
+                    relativeMeanSquaredError(adaptive.image, reference.image));
+                spp[k].add(double(adaptive.samplesTaken) / double(adaptive.image.size()));
+            }
+        }
+        // The reference's share of every relMSE, from uniform's own at 64 spp (independent
+        // samples: E[relMSE] ≈ e/64 + e/reference), taken out before the ratios.
+        for (double value : uniformErrors)
+            uniformError.add(value);
+        const double referenceError = uniformError.mean * 64.0 / (settings.referenceSpp + 64.0);
+        std::string lines = fmt::format(
+            "adaptive sampling at equal time, {} ({}, path_mis, reference {} spp in {:.1f} s): "
+            "64 spp everywhere in {:.2f} s: relMSE {:.3e} (reference's share {:.1f} %)\n",
+            benchScene.name, benchScene.file, settings.referenceSpp, reference.seconds,
+            uniformSeconds.mean, uniformError.mean - referenceError,
+            100.0 * referenceError / uniformError.mean);
+        for (size_t k = 0; k < tolerances.size(); ++k) {
+            // The ratio per seed (paired: seed s of both), then its spread.
+            for (size_t s = 0; s < uniformErrors.size(); ++s)
+                ratios[k].add((adaptiveErrors[k][s] - referenceError) /
+                              (uniformErrors[s] - referenceError));
+            lines += fmt::format("  maxTolerance {}: {:.1f} spp on average; relMSE {:.3f}x of "
+                                 "uniform ± {:.3f} (sd {:.3f}, {} seeds)\n",
+                                 tolerances[k], spp[k].mean, ratios[k].mean,
+                                 std::sqrt(ratios[k].variance() / double(ratios[k].count)),
+                                 std::sqrt(ratios[k].variance()), ratios[k].count);
+        }
+        std::cout << lines << std::flush;
     }
 }
 
@@ -182,10 +234,14 @@ void adaptiveBiasFigures(const Settings &settings) {
 }
 
 int run(const Settings &settings) {
-    samplerFigures(settings);
-    passOverheadFigures(settings);
-    adaptiveFigures(settings);
-    adaptiveBiasFigures(settings);
+    const std::vector<std::pair<std::string, void (*)(const Settings &)>> sections = {
+        {"samplers", samplerFigures},
+        {"overhead", passOverheadFigures},
+        {"adaptive", adaptiveFigures},
+        {"bias", adaptiveBiasFigures}};
+    for (const auto &[name, figures] : sections)
+        if (settings.section.empty() || settings.section == name)
+            figures(settings);
     return 0;
 }
 
@@ -210,6 +266,9 @@ int main(int argc, char **argv) {
             app.add_option("--threads", settings.threads, "threads")
                 ->type_name("N")
                 ->check(CLI::PositiveNumber);
+            app.add_option("--section", settings.section, "only these figures")
+                ->type_name("NAME")
+                ->check(CLI::IsMember({"samplers", "overhead", "adaptive", "bias"}));
         },
         [&](const CLI::App &) { return run(settings); });
 }
