@@ -6,6 +6,7 @@
 
 #include <nori/color.h>
 #include <nori/ray.h>
+#include <nori/vector.h>
 
 #include <vector>
 
@@ -89,6 +90,45 @@ std::string describe(const PhotonTracingStatistics &statistics);
 /// The gathering radius of `photonRadius` (0: automatic, the diagonal of the scene's
 /// bounding box / 500, the course's rule).
 float photonGatherRadius(const Scene &scene, float photonRadius);
+
+/// Stochastic progressive photon mapping's statistics per pixel (Hachisuka & Jensen 2009,
+/// §4): each pixel's radius R and photon count N, and what its camera samples found in the
+/// pass under way. After a pass in which the pixel's samples found M photons each on
+/// average, N ← N + αM and R² ← R²·(N + αM)/(N + M): the radius shrinks where photons are
+/// dense, so bias and variance both vanish.
+class ProgressiveRadii {
+public:
+    struct Pixel {
+        float radiusSquared;
+        float photons;        ///< N, the photons the radius is worth
+        uint32_t passPhotons; ///< photons found by this pass's samples
+        uint32_t passSamples; ///< samples taken in this pass
+    };
+
+    ProgressiveRadii() = default;
+    /// Every pixel of an image of `size` at `initialRadius`, with no photons.
+    ProgressiveRadii(const Vector2i &size, float initialRadius);
+
+    /// The statistics of pixel `p`; nullptr outside the image. During a pass only the
+    /// thread rendering a pixel writes it (Integrator::beginPass).
+    Pixel *pixel(const Point2i &p);
+    /// R²'s factor for a pixel of N photons whose samples found M each: (N + αM)/(N + M).
+    static float shrinkage(float photons, float found, float alpha) {
+        return (photons + alpha * found) / (photons + found);
+    }
+    /// The update above, for every pixel that took samples in the pass (in parallel).
+    void endPass(float alpha);
+
+    float initialRadius() const { return m_initialRadius; }
+    float smallestRadius() const;
+    float largestRadius() const;
+    size_t memoryBytes() const { return m_pixels.size() * sizeof(Pixel); }
+
+private:
+    int m_width = 0;
+    float m_initialRadius = 0.0f;
+    std::vector<Pixel> m_pixels;
+};
 
 template <typename Visit>
 void PhotonMap::forEachWithin(const Point3f &center, float radius, Visit &&visit) const {

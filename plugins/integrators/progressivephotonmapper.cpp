@@ -2,10 +2,10 @@
  * progressivephotonmapper — stochastic progressive photon mapping (Hachisuka & Jensen
  * 2009): the render goes in passes of one sample per pixel, each with a new map of
  * photonCount photons (traced as photonmapper does, seeded by the pass's sample index).
- * Every pixel keeps its own radius R and photon count N: after a pass in which its camera
- * sample found M photons, N ← N + αM and R² ← R²(N + αM)/(N + M), so the radius shrinks
- * where photons are dense and the estimate converges to the right answer (bias and
- * variance both vanish). The published estimate τ/(π R² · passes · emitted) equals the
+ * Every pixel keeps its own radius R and photon count N (ProgressiveRadii): after a pass
+ * in which its camera sample found M photons, N ← N + αM and R² ← R²(N + αM)/(N + M), so
+ * the radius shrinks where photons are dense and the estimate converges to the right
+ * answer (bias and variance both vanish). The published estimate τ/(π R² · passes · emitted) equals the
  * mean over passes of each pass's Σ f·Φ/(π R_pass²) (τ's rescaling by R²_new/R²_old
  * cancels), so each camera sample returns its pass's estimate and the film averages them:
  * the image is deterministic for a fixed seed, whatever the thread count, and it works with
@@ -31,8 +31,6 @@
 #include <nori/sampler.h>
 #include <nori/scene.h>
 
-#include <tbb/parallel_for.h>
-
 namespace nori {
 namespace {
 
@@ -47,11 +45,8 @@ public:
     }
 
     void preprocess(const Scene *scene) override {
-        const Vector2i size = scene->getCamera()->getOutputSize();
-        m_width = size.x();
-        m_initialRadius = photonGatherRadius(*scene, m_parameters.photonRadius);
-        m_pixels.assign(static_cast<size_t>(size.prod()),
-                        PixelState{m_initialRadius * m_initialRadius, 0.0f, 0, 0});
+        m_radii = ProgressiveRadii(scene->getCamera()->getOutputSize(),
+                                   photonGatherRadius(*scene, m_parameters.photonRadius));
         m_passes = 0;
         m_totalEmitted = 0;
         m_photonSeconds = 0.0;
@@ -66,18 +61,7 @@ public:
 
     /// The SPPM update of every pixel that took samples in the pass.
     void endPass(const Scene *) override {
-        tbb::parallel_for(size_t(0), m_pixels.size(), [&](size_t i) {
-            PixelState &pixel = m_pixels[i];
-            if (pixel.passSamples > 0 && pixel.passPhotons > 0) {
-                const float found =
-                    static_cast<float>(pixel.passPhotons) / static_cast<float>(pixel.passSamples);
-                const float kept = pixel.photons + m_alpha * found;
-                pixel.radiusSquared *= kept / (pixel.photons + found);
-                pixel.photons = kept;
-            }
-            pixel.passPhotons = 0;
-            pixel.passSamples = 0;
-        });
+        m_radii.endPass(m_alpha);
         ++m_passes;
         m_mapSample = kNoMap; // the next pass traces its own
     }
@@ -85,12 +69,8 @@ public:
     size_t maxSamplesPerPass() const override { return 1; }
 
     Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const override {
-        const Point2i &p = sampler->pixel();
-        PixelState *pixel = nullptr;
-        if (p.x() >= 0 && p.y() >= 0 && p.x() < m_width &&
-            static_cast<size_t>(p.y()) * m_width + p.x() < m_pixels.size())
-            pixel = &m_pixels[static_cast<size_t>(p.y()) * m_width + p.x()];
-        const float radius = pixel ? std::sqrt(pixel->radiusSquared) : m_initialRadius;
+        ProgressiveRadii::Pixel *pixel = m_radii.pixel(sampler->pixel());
+        const float radius = pixel ? std::sqrt(pixel->radiusSquared) : m_radii.initialRadius();
         size_t found = 0;
         Color3f radiance = photonMappedRadiance(*scene, m_map, *sampler, ray, radius, &found);
         if (pixel) { // only this pixel's thread writes it during a pass (Integrator::beginPass)
@@ -101,20 +81,15 @@ public:
     }
 
     std::string renderSummary() const override {
-        float smallest = m_initialRadius, largest = 0.0f;
-        for (const PixelState &pixel : m_pixels) {
-            smallest = std::min(smallest, std::sqrt(pixel.radiusSquared));
-            largest = std::max(largest, std::sqrt(pixel.radiusSquared));
-        }
         return fmt::format("Progressive photon mapping: {} passes of {} photons ({:.0f} paths each "
                            "on average), {:.2f} s tracing photons, map {:.1f} MiB at most, pixel "
                            "state {:.1f} MiB; radius {:.4g} at first, now {:.4g} to {:.4g}",
                            m_passes, m_parameters.photonCount,
                            m_passes > 0 ? static_cast<double>(m_totalEmitted) / m_passes : 0.0,
                            m_photonSeconds, static_cast<double>(m_peakBytes) / (1024.0 * 1024.0),
-                           static_cast<double>(m_pixels.size() * sizeof(PixelState)) /
-                               (1024.0 * 1024.0),
-                           m_initialRadius, smallest, largest);
+                           static_cast<double>(m_radii.memoryBytes()) / (1024.0 * 1024.0),
+                           m_radii.initialRadius(), m_radii.smallestRadius(),
+                           m_radii.largestRadius());
     }
 
     std::string toString() const override {
@@ -123,13 +98,6 @@ public:
     }
 
 private:
-    /// A pixel's SPPM statistics, and what its samples found in the pass under way.
-    struct PixelState {
-        float radiusSquared;
-        float photons;        ///< N, the photons the radius is worth
-        uint32_t passPhotons; ///< photons found by this pass's samples
-        uint32_t passSamples; ///< samples taken in this pass
-    };
     static constexpr uint32_t kNoMap = UINT32_MAX;
 
     void traceMap(const Scene &scene, uint32_t firstSample) {
@@ -145,9 +113,7 @@ private:
 
     PhotonMappingParameters m_parameters;
     float m_alpha;
-    float m_initialRadius = 0.0f;
-    int m_width = 0;
-    mutable std::vector<PixelState> m_pixels;
+    mutable ProgressiveRadii m_radii;
     PhotonMap m_map;
     uint32_t m_mapSample = kNoMap; ///< the first sample index of the pass m_map is for
     size_t m_passes = 0;

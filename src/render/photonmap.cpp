@@ -269,4 +269,44 @@ float photonGatherRadius(const Scene &scene, float photonRadius) {
     return diagonal > 0.0f ? diagonal / 500.0f : 1e-3f;
 }
 
+ProgressiveRadii::ProgressiveRadii(const Vector2i &size, float initialRadius)
+    : m_width(size.x()), m_initialRadius(initialRadius),
+      m_pixels(static_cast<size_t>(size.prod()), Pixel{initialRadius * initialRadius, 0.0f, 0, 0}) {
+}
+
+ProgressiveRadii::Pixel *ProgressiveRadii::pixel(const Point2i &p) {
+    if (p.x() < 0 || p.y() < 0 || p.x() >= m_width)
+        return nullptr;
+    const size_t index = static_cast<size_t>(p.y()) * m_width + p.x();
+    return index < m_pixels.size() ? &m_pixels[index] : nullptr;
+}
+
+void ProgressiveRadii::endPass(float alpha) {
+    tbb::parallel_for(size_t(0), m_pixels.size(), [&](size_t i) {
+        Pixel &pixel = m_pixels[i];
+        if (pixel.passSamples > 0 && pixel.passPhotons > 0) {
+            const float found =
+                static_cast<float>(pixel.passPhotons) / static_cast<float>(pixel.passSamples);
+            pixel.radiusSquared *= shrinkage(pixel.photons, found, alpha);
+            pixel.photons += alpha * found;
+        }
+        pixel.passPhotons = 0;
+        pixel.passSamples = 0;
+    });
+}
+
+float ProgressiveRadii::smallestRadius() const {
+    float smallest = m_initialRadius * m_initialRadius;
+    for (const Pixel &pixel : m_pixels)
+        smallest = std::min(smallest, pixel.radiusSquared);
+    return std::sqrt(smallest);
+}
+
+float ProgressiveRadii::largestRadius() const {
+    float largest = 0.0f;
+    for (const Pixel &pixel : m_pixels)
+        largest = std::max(largest, pixel.radiusSquared);
+    return std::sqrt(largest);
+}
+
 } // namespace nori
