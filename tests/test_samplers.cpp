@@ -4,6 +4,7 @@
 // and the scrambling primitives. Each check has a control it must reject.
 #include <nori/lowdiscrepancy.h>
 #include <nori/parser.h>
+#include <nori/pcg32.h>
 #include <nori/sampler.h>
 #include <nori/statistics.h>
 
@@ -61,14 +62,15 @@ bool oneInEachCell(const std::vector<Point2f> &points, int columns, int rows) {
     for (const Point2f &p : points)
         cells.insert(static_cast<int>(p.y() * rows) * columns + static_cast<int>(p.x() * columns));
     return static_cast<int>(cells.size()) == columns * rows &&
-           points.size() == static_cast<size_t>(columns * rows);
+           points.size() == static_cast<size_t>(columns) * static_cast<size_t>(rows);
 }
 
 /// Pearson's χ² test that pairs (a, b) are uniform on an 8 × 8 grid of [0, 1)².
 ChiSquareResult pairTest(const std::vector<std::pair<float, float>> &pairs) {
     std::vector<double> observed(64, 0.0);
     for (const auto &[a, b] : pairs)
-        observed[static_cast<size_t>(static_cast<int>(b * 8) * 8 + static_cast<int>(a * 8))] += 1;
+        observed[static_cast<size_t>(static_cast<int>(b * 8)) * 8 + static_cast<size_t>(a * 8)] +=
+            1;
     const std::vector<double> expected(64, static_cast<double>(pairs.size()) / 64.0);
     return pearsonChiSquareTest(observed, expected, 5.0, 0.01);
 }
@@ -80,8 +82,9 @@ const std::vector<std::string> kSamplers = {"independent", "stratified", "sobol"
 TEST_CASE("Sobol' dimensions 0 and 1 form a (0, 2)-sequence, scrambled or not", "[sampler]") {
     for (uint32_t k = 1; k <= 10; ++k) {
         CAPTURE(k);
-        // Every aligned run of 2^k points is a (0, k, 2)-net; the first and the third run.
-        for (uint32_t start : {0u, 2u << k}) {
+        // Every aligned run of 2^k points is a (0, k, 2)-net: the first, the third and one
+        // among the large indices a shuffled sample index reaches (all four bytes set).
+        for (uint32_t start : {0u, 2u << k, 0x9e3779b9u & ~((1u << k) - 1)}) {
             std::vector<Point2f> plain, scrambled;
             for (uint32_t i = start; i < start + (1u << k); ++i) {
                 plain.emplace_back(fractionToFloat(sobolSample(i, 0)),
@@ -99,6 +102,28 @@ TEST_CASE("Sobol' dimensions 0 and 1 form a (0, 2)-sequence, scrambled or not", 
     for (uint64_t i = 0; i < 16; ++i)
         halton.emplace_back(float(radicalInverse(2, i)), float(radicalInverse(3, i)));
     CHECK_FALSE(isZeroTwoNet(halton));
+}
+
+TEST_CASE("Sobol's second dimension is its generator matrix applied bit by bit", "[sampler]") {
+    // The byte tables against the definition: x = ⊕ v_k over the index's set bits k, with
+    // m_k = 2·m_{k−1} ⊕ m_{k−1}, m_1 = 1, v_k = m_k·2^(32−k) (Joe and Kuo 2008, eq. 3).
+    auto definition = [](uint32_t index) {
+        uint32_t x = 0, m = 1;
+        for (int k = 1; k <= 32; ++k, m = (m << 1) ^ m)
+            if (index & (1u << (k - 1)))
+                x ^= m << (32 - k);
+        return x;
+    };
+    PCG32 random(7, 11);
+    for (int i = 0; i < 100000; ++i) {
+        const uint32_t index = i < 1024 ? static_cast<uint32_t>(i) : random.nextUInt();
+        CAPTURE(index);
+        REQUIRE(sobolSample(index, 1) == definition(index));
+        REQUIRE(sobolSampleReversed(index, 1) == reverseBits(definition(index)));
+        REQUIRE(sobolSample(index, 0) == reverseBits(index));
+    }
+    // Control: the definition differs from the first dimension beyond index 1.
+    CHECK(definition(2) != sobolSample(2, 0));
 }
 
 TEST_CASE("Scrambling an index keeps each aligned run of 2^k indices together", "[sampler]") {

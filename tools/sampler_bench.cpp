@@ -13,18 +13,26 @@
 //      scenes (the two boxes and Veach's glossy plates), as ratios per seed with their
 //      spread; and its bias on a white furnace with a known answer (a t-test over
 //      independent pixels).
+//   4. What a sampler costs: nanoseconds per next2D() alone (one thread, 64 dimensions
+//      per sample), and the render time of the diffuse box at 64 spp with each sampler
+//      (path_mis: the same number of rays on average), rounds alternating the samplers,
+//      median and spread, and each sampler's ratio to independent in the same round.
 //
 //   nori-bench-samplers [--size N] [--reference-spp N] [--seeds N] [--threads N]
-//                       [--section samplers|overhead|adaptive|bias]
+//                       [--section samplers|overhead|adaptive|bias|cost]
 #include "app/cli.h"
 #include <nori/bitmap.h>
 #include <nori/filesystem.h>
 #include <nori/parser.h>
+#include <nori/proplist.h>
 #include <nori/render.h>
+#include <nori/sampler.h>
 #include <nori/scene.h>
 #include <nori/statistics.h>
 #include <nori/strutil.h>
 
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 
@@ -233,12 +241,73 @@ void adaptiveBiasFigures(const Settings &settings) {
     std::filesystem::remove(box);
 }
 
+/// The median of `values` (a copy is sorted).
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const size_t n = values.size();
+    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+void samplerCostFigures(const Settings &settings) {
+    const std::vector<std::string> samplers = {"independent", "stratified", "sobol"};
+    constexpr int kRounds = 5;
+    for (const std::string &name : samplers) {
+        PropertyList props;
+        props.setInteger("sampleCount", 64);
+        auto sampler = std::dynamic_pointer_cast<Sampler>(
+            NoriObjectFactory::createInstance(name, NoriObject::ESampler, props));
+        double best = 1e30, sink = 0.0;
+        constexpr int kPixels = 4096, kSamples = 64, kDimensions = 64;
+        for (int round = 0; round < kRounds; ++round) {
+            const auto start = std::chrono::steady_clock::now();
+            for (int pixel = 0; pixel < kPixels; ++pixel)
+                for (int sample = 0; sample < kSamples; ++sample) {
+                    sampler->generate(Point2i(pixel % 64, pixel / 64), sample);
+                    for (int d = 0; d < kDimensions; ++d) {
+                        const Point2f u = sampler->next2D();
+                        sink += u.x() + u.y();
+                    }
+                }
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            best = std::min(best, seconds);
+        }
+        std::cout << fmt::format("{:<12} next2D(): {:.1f} ns (best of {}, one thread; checksum "
+                                 "{:.0f})\n",
+                                 name, 1e9 * best / (double(kPixels) * kSamples * kDimensions),
+                                 kRounds, sink);
+    }
+    // seconds[sampler][round]
+    std::vector<std::vector<double>> seconds(samplers.size());
+    for (int round = 0; round < kRounds; ++round)
+        for (size_t k = 0; k < samplers.size(); ++k)
+            seconds[k].push_back(
+                renderBox(settings,
+                          {{"integrator", "path_mis"}, {"sampler", samplers[k]}, {"spp", "64"}})
+                    .seconds);
+    for (size_t k = 0; k < samplers.size(); ++k) {
+        std::vector<double> ratios;
+        ratios.reserve(kRounds);
+        for (int round = 0; round < kRounds; ++round)
+            ratios.push_back(seconds[k][round] / seconds[0][round]);
+        const auto [low, high] = std::minmax_element(ratios.begin(), ratios.end());
+        std::cout << fmt::format("path_mis, diffuse box {}x{}, 64 spp, {:<12}: median {:.2f} s "
+                                 "(range {:.2f}-{:.2f}); to independent {:.3f}x (range "
+                                 "{:.3f}-{:.3f}, {} rounds)\n",
+                                 settings.size, settings.size, samplers[k], median(seconds[k]),
+                                 *std::min_element(seconds[k].begin(), seconds[k].end()),
+                                 *std::max_element(seconds[k].begin(), seconds[k].end()),
+                                 median(ratios), *low, *high, kRounds);
+    }
+}
+
 int run(const Settings &settings) {
     const std::vector<std::pair<std::string, void (*)(const Settings &)>> sections = {
         {"samplers", samplerFigures},
         {"overhead", passOverheadFigures},
         {"adaptive", adaptiveFigures},
-        {"bias", adaptiveBiasFigures}};
+        {"bias", adaptiveBiasFigures},
+        {"cost", samplerCostFigures}};
     for (const auto &[name, figures] : sections)
         if (settings.section.empty() || settings.section == name)
             figures(settings);
@@ -252,7 +321,7 @@ int main(int argc, char **argv) {
     return runCommandLine(
         argc, argv, "nori-bench-samplers",
         "The figures of the samplers and the progressive loop: MSE per sampler, the pass "
-        "overhead, adaptive sampling.",
+        "overhead, adaptive sampling, what each sampler costs.",
         [&](CLI::App &app) {
             app.add_option("--size", settings.size, "image size")
                 ->type_name("N")
@@ -268,7 +337,7 @@ int main(int argc, char **argv) {
                 ->check(CLI::PositiveNumber);
             app.add_option("--section", settings.section, "only these figures")
                 ->type_name("NAME")
-                ->check(CLI::IsMember({"samplers", "overhead", "adaptive", "bias"}));
+                ->check(CLI::IsMember({"samplers", "overhead", "adaptive", "bias", "cost"}));
         },
         [&](const CLI::App &) { return run(settings); });
 }

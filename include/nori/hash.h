@@ -16,11 +16,17 @@ constexpr uint64_t mixBits(uint64_t value) {
     return value ^ (value >> 31);
 }
 
-/// Hashes several integers into one 64-bit value (each folded in after mixing the last).
-template <typename... Values> constexpr uint64_t hashValues(Values... values) {
-    uint64_t hash = 0x9e3779b97f4a7c15ULL; // 2^64 / golden ratio: any odd start will do
+/// Folds more integers into a hash: hashMore(hashValues(a, b), c) == hashValues(a, b, c),
+/// so a prefix used by many hashes (a pixel's, for all its dimensions) is hashed once.
+template <typename... Values> constexpr uint64_t hashMore(uint64_t hash, Values... values) {
     ((hash = mixBits(hash ^ static_cast<uint64_t>(values))), ...);
     return hash;
+}
+
+/// Hashes several integers into one 64-bit value (each folded in after mixing the last).
+template <typename... Values> constexpr uint64_t hashValues(Values... values) {
+    // The start, 2^64 / golden ratio: any odd constant will do.
+    return hashMore(0x9e3779b97f4a7c15ULL, values...);
 }
 
 /// A 64-bit digest of a byte string, 8 bytes at a time through mixBits (with the length

@@ -30,15 +30,13 @@ public:
     std::unique_ptr<Sampler> clone() const override { return std::make_unique<Sobol>(*this); }
 
     float next1D() override {
-        const uint64_t hash = dimensionHash();
-        const uint32_t index = shuffledIndex(hash);
-        return scrambledCoordinate(index, 0, hash);
+        const Dimension dimension = nextDimension();
+        return coordinate(dimension, 0);
     }
 
     Point2f next2D() override {
-        const uint64_t hash = dimensionHash();
-        const uint32_t index = shuffledIndex(hash);
-        return Point2f(scrambledCoordinate(index, 0, hash), scrambledCoordinate(index, 1, hash));
+        const Dimension dimension = nextDimension();
+        return Point2f(coordinate(dimension, 0), coordinate(dimension, 1));
     }
 
     std::string toString() const override {
@@ -46,18 +44,41 @@ public:
     }
 
 private:
-    uint64_t dimensionHash() { return hashValues(m_seed, m_pixel.x(), m_pixel.y(), m_dimension++); }
+    /// A dimension's shuffled sample index and the hash its coordinates' scrambles come
+    /// from. The arithmetic is arranged to reverse bits as rarely as it can (three times
+    /// for a 2D point): Owen scrambling works on bit-reversed fractions, and the first
+    /// Sobol' dimension is the index reversed.
+    struct Dimension {
+        uint32_t index;     ///< the shuffled sample index
+        uint64_t scrambles; ///< the two coordinates' scramble seeds, 32 bits each
+    };
+
+    void startSample() override {
+        m_pixelHash = hashValues(m_seed, m_pixel.x(), m_pixel.y());
+        m_reversedSampleIndex = reverseBits(m_sampleIndex);
+    }
 
     /// Burley 2020, §4: an Owen scramble of the index shuffles the points but keeps each
-    /// aligned run of 2^k indices (a (0, k, 2)-net) together.
-    uint32_t shuffledIndex(uint64_t dimensionHash) const {
-        return nestedUniformScramble(m_sampleIndex, static_cast<uint32_t>(dimensionHash));
+    /// aligned run of 2^k indices (a (0, k, 2)-net) together. The dimension's hash is
+    /// hashValues(seed, pixel x, pixel y, dimension), the pixel's part hashed once.
+    Dimension nextDimension() {
+        const uint64_t hash = hashMore(m_pixelHash, m_dimension++);
+        const uint32_t index =
+            reverseBits(laineKarrasPermutation(m_reversedSampleIndex, static_cast<uint32_t>(hash)));
+        return {index, mixBits(hash)};
     }
 
-    float scrambledCoordinate(uint32_t index, int axis, uint64_t dimensionHash) const {
-        const uint32_t seed = static_cast<uint32_t>(hashValues(dimensionHash, axis) >> 32);
-        return fractionToFloat(nestedUniformScramble(sobolSample(index, axis), seed));
+    /// Coordinate `axis` of the dimension's point, Owen-scrambled with a seed of its own:
+    /// a half of the dimension's hash mixed once more (the index's shuffle used the low
+    /// half of the hash before mixing).
+    static float coordinate(const Dimension &dimension, int axis) {
+        const uint32_t seed = static_cast<uint32_t>(dimension.scrambles >> (32 * axis));
+        return fractionToFloat(
+            reverseBits(laineKarrasPermutation(sobolSampleReversed(dimension.index, axis), seed)));
     }
+
+    uint64_t m_pixelHash = 0;
+    uint32_t m_reversedSampleIndex = 0;
 };
 
 NORI_REGISTER_CLASS(Sobol, "sobol");
