@@ -6,6 +6,7 @@
 #include <nori/parser.h>
 #include <nori/pcg32.h>
 #include <nori/sampler.h>
+#include <nori/scene.h>
 #include <nori/statistics.h>
 
 #include <catch2/catch.hpp>
@@ -270,4 +271,22 @@ TEST_CASE("A sample is a pure function of seed, pixel and index", "[sampler]") {
         sampler->generate(Point2i(7, 3), 5);
         CHECK(reseeded->next2D() != sampler->next2D());
     }
+}
+
+TEST_CASE("A scene that names no sampler renders with sobol", "[sampler]") {
+    // Nori 2's default is independent; renders here default to sobol (the ttest plugin
+    // keeps independent for such scenes, as Nori 2's test files expect).
+    auto load = [](const std::string &sampler) {
+        auto scene = std::dynamic_pointer_cast<Scene>(
+            loadFromXMLString(R"(<scene><integrator type="normals"/><camera type="perspective"/>)" +
+                              sampler + "</scene>"));
+        REQUIRE(scene);
+        return scene;
+    };
+    const auto unnamed = load("");
+    CHECK(unnamed->hasDefaultSampler());
+    CHECK(unnamed->getSampler()->toString().rfind("Sobol[", 0) == 0);
+    const auto named = load(R"(<sampler type="independent"/>)");
+    CHECK_FALSE(named->hasDefaultSampler());
+    CHECK(named->getSampler()->toString().rfind("Independent[", 0) == 0);
 }

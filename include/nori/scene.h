@@ -24,6 +24,9 @@ public:
     const Camera *getCamera() const { return m_camera.get(); }
     const Sampler *getSampler() const { return m_sampler.get(); }
     Sampler *getSampler() { return m_sampler.get(); }
+    /// Whether the scene named no sampler and got the default, `sobol` (Nori 2's default
+    /// is `independent`, which Nori 2's test files then keep: see the ttest plugin).
+    bool hasDefaultSampler() const { return m_defaultSampler; }
     /// Every shape in the scene itself (not those in shape groups), with invisible ones.
     const std::vector<std::shared_ptr<Shape>> &getShapes() const { return m_contents.shapes(); }
     const BoundingBox3f &getBoundingBox() const { return m_contents.accel().getBoundingBox(); }
@@ -83,6 +86,7 @@ private:
     std::shared_ptr<Sampler> m_sampler;
     double m_buildSeconds = 0.0;
     bool m_needsRayDifferentials = false;
+    bool m_defaultSampler = false;
     struct RayCounter; ///< a count per thread (TBB), summed when asked
     std::unique_ptr<RayCounter> m_rayCounter;
 };

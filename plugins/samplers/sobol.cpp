@@ -7,7 +7,8 @@
  * dimension of a pixel put one point in each elementary interval of area 2^-k, pixels
  * and dimensions are decorrelated (as pbrt-v4's ZSobol does by hashing the pixel), and
  * any sample count and any number of dimensions is well defined: there is no table to
- * run out of. Sample counts that are powers of two converge best.
+ * run out of. Sample counts that are powers of two converge best. The default sampler of
+ * a scene that names none (Nori 2's is independent).
  *
  * No parameters of its own: it takes those of every sampler, sampleCount, seed,
  * maxTolerance and minSamples (adaptive sampling; see docs/plugins.md).

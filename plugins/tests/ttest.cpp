@@ -4,8 +4,9 @@
  * weight) at every angle of `angles`; `references` lists one value per BSDF and angle,
  * BSDF by BSDF (Nori 2 indexes these wrongly with several BSDFs). Scene mode: the
  * luminance of Li() over a nested scene's (tiny) image, one reference per scene; the
- * integrator is preprocessed and the sampler seeded as in a render. The significance
- * level is Šidák-corrected over all tests.
+ * integrator is preprocessed and the sampler seeded as in a render. A scene that names no
+ * sampler is sampled by `independent`, Nori 2's default, as its references were made
+ * (renders default to `sobol`). The significance level is Šidák-corrected over all tests.
  *
  * Parameters:
  *   significanceLevel  float    0.01    probability of rejecting a correct estimator
@@ -114,7 +115,9 @@ private:
 
     StudentTResult testScene(Scene &scene, double reference, double alpha) const {
         scene.getIntegrator()->preprocess(&scene);
-        std::unique_ptr<Sampler> sampler = scene.getSampler()->clone();
+        std::unique_ptr<Sampler> sampler = scene.hasDefaultSampler()
+                                               ? createDefault<Sampler>("independent")->clone()
+                                               : scene.getSampler()->clone();
         const Camera *camera = scene.getCamera();
         const Vector2i size = camera->getOutputSize();
         RunningMoments moments;

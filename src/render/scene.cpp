@@ -93,8 +93,9 @@ void Scene::activate() {
         throw NoriException("the scene has no integrator");
     if (!m_camera)
         throw NoriException("the scene has no camera");
-    if (!m_sampler)
-        m_sampler = createDefault<Sampler>("independent");
+    m_defaultSampler = !m_sampler;
+    if (m_defaultSampler) // Nori 2's default is independent (docs/user-guide.md)
+        m_sampler = createDefault<Sampler>("sobol");
     m_needsRayDifferentials = false;
     m_contents.visitShapes([this](const Shape &shape) {
         m_needsRayDifferentials = m_needsRayDifferentials || usesFootprint(shape);
