@@ -112,6 +112,10 @@ public:
     virtual ShapeSample sampleFromReference(const Point3f &ref, const Point2f &sample) const;
     /// The solid-angle density at ref of sampleFromReference producing (p, n).
     virtual float pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const;
+    /// sampleSurface's point with its density in solid angle at ref: pdf_A · d²/|cos θ|.
+    /// The default of the two above; an area light asks for it with `sampling="area"`.
+    ShapeSample areaSampleFromReference(const Point3f &ref, const Point2f &sample) const;
+    float areaPdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const;
 
     /// Whether the shape renders itself (`visible`, default true): an invisible shape is
     /// a template that only its tmesh copies place.

@@ -3,17 +3,26 @@
  * leaving the front side of the shape it is nested in: the side its vertex normals
  * point to (as Nori 2 and pbrt decide, even when the triangles wind the other way),
  * else the side of its winding's normal.
- * Points are sampled by the shape: by area for meshes, through the subtended cone for
- * spheres. Photons leave a point uniform by area in a cosine-weighted direction.
+ * Points are sampled in solid angle where the shape can: a sphere through the cone it
+ * subtends, a mesh of at most 8 triangles uniformly in its spherical triangles (Arvo
+ * 1995; PBR 4th ed. §6.5.4) unless one is nearly a point or nearly a hemisphere as seen
+ * from the shading point; other meshes by area. `sampling="area"` samples every shape by
+ * area (Nori 2's way), for comparisons. Photons leave a point uniform by area in a
+ * cosine-weighted direction.
  *
  * Parameters:
- *   radiance  color/texture  (required)  emitted radiance
+ *   radiance  color/texture  (required)    emitted radiance
+ *   sampling  string         (solidangle)  solidangle or area: how points are sampled
  *
  *   <mesh type="obj"><string name="filename" value="scenes/cbox/meshes/light.obj"/>
  *       <emitter type="area"><color name="radiance" value="10, 10, 10"/></emitter></mesh>
  *
  *   <mesh type="sphere"><float name="radius" value="0.5"/>
  *       <emitter type="area"><color name="radiance" value="2"/></emitter></mesh>
+ *
+ *   <mesh type="obj"><string name="filename" value="scenes/cbox/meshes/light.obj"/>
+ *       <emitter type="area"><color name="radiance" value="1"/>
+ *           <string name="sampling" value="area"/></emitter></mesh>
  */
 #include <nori/emitter.h>
 #include <nori/frame.h>
@@ -31,12 +40,19 @@ public:
         m_radiance = m_textures.color(props, "radiance");
         if (m_radiance->isConstant() && (m_radiance->average() < 0.0f).any())
             throw NoriException("area: 'radiance' must not be negative");
+        const std::string sampling = props.getString("sampling", "solidangle");
+        if (sampling != "solidangle" && sampling != "area")
+            throw NoriException("area: 'sampling' is \"{}\"; it must be \"solidangle\" or "
+                                "\"area\"",
+                                sampling);
+        m_byArea = sampling == "area";
     }
 
     bool requiresShape() const override { return true; }
 
     Color3f sample(EmitterQueryRecord &lRec, const Point2f &sample) const override {
-        const ShapeSample point = m_shape->sampleFromReference(lRec.ref, sample);
+        const ShapeSample point = m_byArea ? m_shape->areaSampleFromReference(lRec.ref, sample)
+                                           : m_shape->sampleFromReference(lRec.ref, sample);
         lRec.p = point.p;
         lRec.n = point.n;
         lRec.uv = textureUV(*m_shape, point.uv);
@@ -60,7 +76,8 @@ public:
     float pdf(const EmitterQueryRecord &lRec) const override {
         if (lRec.n.dot(lRec.wi) >= 0.0f)
             return 0.0f;
-        return m_shape->pdfFromReference(lRec.ref, lRec.p, lRec.n);
+        return m_byArea ? m_shape->areaPdfFromReference(lRec.ref, lRec.p, lRec.n)
+                        : m_shape->pdfFromReference(lRec.ref, lRec.p, lRec.n);
     }
 
     // A point uniform by area (pdf_A = 1/A for meshes) and a cosine-weighted direction
@@ -92,11 +109,13 @@ public:
     }
 
     std::string toString() const override {
-        return fmt::format("AreaLight[radiance={}]", m_radiance->toString());
+        return fmt::format("AreaLight[radiance={}, sampling={}]", m_radiance->toString(),
+                           m_byArea ? "area" : "solidangle");
     }
 
 private:
     std::shared_ptr<const Texture> m_radiance;
+    bool m_byArea = false; ///< sample points uniformly by area, not in solid angle
 };
 
 NORI_REGISTER_CLASS(AreaLight, "area");

@@ -127,7 +127,7 @@ public:
         const Vector3f toCenter = m_center - ref;
         const float distanceSquared = toCenter.squaredNorm();
         if (!seesCone(distanceSquared))
-            return Shape::sampleFromReference(ref, sample);
+            return areaSampleFromReference(ref, sample);
         // A uniform direction in the cone the sphere subtends, then the nearer point
         // where that direction meets the sphere.
         const float distance = std::sqrt(distanceSquared);
@@ -151,7 +151,7 @@ public:
         const Vector3f toCenter = m_center - ref;
         const float distanceSquared = toCenter.squaredNorm();
         if (!seesCone(distanceSquared))
-            return Shape::pdfFromReference(ref, p, n);
+            return areaPdfFromReference(ref, p, n);
         // Only the near side is in the cone: the far side is never sampled.
         if (Vector3f(p - m_center).dot(Vector3f(ref - m_center)) < 0.0f)
             return 0.0f;

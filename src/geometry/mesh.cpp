@@ -1,4 +1,5 @@
 #include <nori/mesh.h>
+#include <nori/sphericaltriangle.h>
 #include <nori/triangle.h>
 
 #include <array>
@@ -216,12 +217,8 @@ void Mesh::finishLoading(const Transform &toWorld) {
         m_triangleAreas.normalize();
 }
 
-ShapeSample Mesh::sampleSurface(const Point2f &sample) const {
-    float u = sample.x();
-    const uint32_t index = static_cast<uint32_t>(m_triangleAreas.sampleReuse(u));
-    // Uniform barycentrics: b1 = 1 − √u, b2 = v √u.
-    const float root = std::sqrt(u);
-    const float b1 = 1.0f - root, b2 = sample.y() * root, b0 = 1.0f - b1 - b2;
+ShapeSample Mesh::pointOnTriangle(uint32_t index, float b1, float b2) const {
+    const float b0 = 1.0f - b1 - b2;
     const Vector3i &face = m_faces[index];
     const Point3f &p0 = m_positions[face[0]], &p1 = m_positions[face[1]],
                   &p2 = m_positions[face[2]];
@@ -232,8 +229,64 @@ ShapeSample Mesh::sampleSurface(const Point2f &sample) const {
                     ? Point2f(b1, b2)
                     : Point2f(b0 * m_texCoords[face[0]] + b1 * m_texCoords[face[1]] +
                               b2 * m_texCoords[face[2]]);
+    return result;
+}
+
+ShapeSample Mesh::sampleSurface(const Point2f &sample) const {
+    float u = sample.x();
+    const uint32_t index = static_cast<uint32_t>(m_triangleAreas.sampleReuse(u));
+    // Uniform barycentrics: b1 = 1 − √u, b2 = v √u.
+    const float root = std::sqrt(u);
+    ShapeSample result = pointOnTriangle(index, 1.0f - root, sample.y() * root);
     result.pdf = 1.0f / getArea();
     return result;
+}
+
+bool Mesh::solidAnglesFrom(const Point3f &ref, SolidAngles &solidAngles, float &total) const {
+    if (m_faces.size() > kMaxSolidAngleTriangles)
+        return false;
+    total = 0.0f;
+    for (uint32_t i = 0; i < m_faces.size(); ++i) {
+        const Vector3i &face = m_faces[i];
+        solidAngles[i] = sphericalTriangleSolidAngle(m_positions[face[0]], m_positions[face[1]],
+                                                     m_positions[face[2]], ref);
+        if (!(solidAngles[i] >= kMinSphericalTriangleSolidAngle &&
+              solidAngles[i] <= kMaxSphericalTriangleSolidAngle))
+            return false;
+        total += solidAngles[i];
+    }
+    return total > 0.0f;
+}
+
+ShapeSample Mesh::sampleFromReference(const Point3f &ref, const Point2f &sample) const {
+    SolidAngles solidAngles;
+    float total = 0.0f;
+    if (!solidAnglesFrom(ref, solidAngles, total))
+        return areaSampleFromReference(ref, sample);
+    // Choose triangle i with probability Ω_i/Ω and reuse the rest of sample.x().
+    uint32_t index = 0;
+    float u = sample.x() * total;
+    while (index + 1 < m_faces.size() && u >= solidAngles[index])
+        u -= solidAngles[index++];
+    u = std::clamp(u / solidAngles[index], 0.0f, 1.0f);
+
+    const Vector3i &face = m_faces[index];
+    const std::optional<Point2f> barycentrics =
+        sampleSphericalTriangle(m_positions[face[0]], m_positions[face[1]], m_positions[face[2]],
+                                ref, Point2f(u, sample.y()));
+    if (!barycentrics)
+        return {};
+    ShapeSample result = pointOnTriangle(index, barycentrics->x(), barycentrics->y());
+    result.pdf = 1.0f / total;
+    return result;
+}
+
+float Mesh::pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const {
+    SolidAngles solidAngles;
+    float total = 0.0f;
+    if (!solidAnglesFrom(ref, solidAngles, total))
+        return areaPdfFromReference(ref, p, n);
+    return 1.0f / total;
 }
 
 void Mesh::computeTangents() {

@@ -92,12 +92,20 @@ void Shape::addChild(const std::shared_ptr<NoriObject> &child, const std::string
 }
 
 ShapeSample Shape::sampleFromReference(const Point3f &ref, const Point2f &sample) const {
+    return areaSampleFromReference(ref, sample);
+}
+
+ShapeSample Shape::areaSampleFromReference(const Point3f &ref, const Point2f &sample) const {
     ShapeSample result = sampleSurface(sample);
-    result.pdf = pdfFromReference(ref, result.p, result.n);
+    result.pdf = areaPdfFromReference(ref, result.p, result.n);
     return result;
 }
 
 float Shape::pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const {
+    return areaPdfFromReference(ref, p, n);
+}
+
+float Shape::areaPdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const {
     // Change of measure from area to solid angle at ref: dω = |cos θ| dA / d².
     const Vector3f toPoint = p - ref;
     const float distanceSquared = toPoint.squaredNorm();

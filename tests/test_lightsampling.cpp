@@ -1,0 +1,233 @@
+// Triangle lights sampled in solid angle (sphericaltriangle.h, Mesh::sampleFromReference):
+// directions uniform within the spherical triangles (χ², with a control that claims the
+// area density and is rejected), the density 1/Ω the same for every point of the light,
+// the area fallback where a triangle is nearly a point or seen edge-on, the light a close
+// quad gives a floor against the closed form of its form factor, and the window room
+// rendered with either sampling of its window.
+#include "testing/agreement.h"
+#include "testutil.h"
+
+#include <nori/chisquare.h>
+#include <nori/emitter.h>
+#include <nori/mesh.h>
+#include <nori/samplingroutines.h>
+#include <nori/scene.h>
+#include <nori/sphericaltriangle.h>
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+using namespace nori::testing;
+
+namespace {
+
+/// A square of side 2 in the plane y = 0 (x, z in [-1, 1]), two triangles whose winding
+/// faces −y (down), as an OBJ file.
+const char *kSquareFacingDown = "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nf 1 2 3\nf 1 3 4\n";
+/// One large triangle in the same plane, facing down.
+const char *kTriangleFacingDown = "v -1 0 -1\nv 3 0 -1\nv -1 0 2\nf 1 2 3\n";
+
+/// The area light of the only emitter of a scene made of the OBJ file `obj`.
+struct LightFixture {
+    TempDir dir;
+    std::shared_ptr<Scene> scene;
+    const Emitter *light = nullptr;
+    const Shape *shape = nullptr;
+
+    explicit LightFixture(const std::string &obj, const std::string &emitterExtra = "") {
+        const std::string file = dir.write("light.obj", obj);
+        scene = loadScene(fmt::format(R"(<scene><integrator type="direct_ems"/>
+            <camera type="perspective"/>
+            <mesh type="obj"><string name="filename" value="{}"/>
+                <emitter type="area"><color name="radiance" value="1"/>{}</emitter></mesh>
+            </scene>)",
+                                      file, emitterExtra));
+        light = scene->getEmitters().at(0).get();
+        shape = light->getShape();
+    }
+};
+
+} // namespace
+
+TEST_CASE("A triangle's solid angle: an octant is π/2, a point in its plane sees none",
+          "[lights][spherical]") {
+    // The triangle (1,0,0), (0,1,0), (0,0,1) seen from the origin covers an octant.
+    CHECK(sphericalTriangleSolidAngle(Point3f(1, 0, 0), Point3f(0, 1, 0), Point3f(0, 0, 1),
+                                      Point3f(0, 0, 0)) == Approx(kPi / 2.0f).epsilon(1e-6));
+    // Far away, Ω → A·cos θ/d²: a unit right triangle (area 1/2) 100 away, face on.
+    CHECK(sphericalTriangleSolidAngle(Point3f(0, 0, 0), Point3f(1, 0, 0), Point3f(0, 1, 0),
+                                      Point3f(0.3f, 0.3f, 100)) ==
+          Approx(0.5 / 10000.0).epsilon(1e-3));
+    CHECK(sphericalTriangleSolidAngle(Point3f(0, 0, 0), Point3f(1, 0, 0), Point3f(0, 1, 0),
+                                      Point3f(5, 7, 0)) == 0.0f);
+    CHECK_FALSE(sampleSphericalTriangle(Point3f(0, 0, 0), Point3f(1, 0, 0), Point3f(0, 1, 0),
+                                        Point3f(5, 7, 0), Point2f(0.5f, 0.5f)));
+}
+
+TEST_CASE("Triangle lights seen up close are sampled uniformly in solid angle (chi-square)",
+          "[lights][spherical][chi2]") {
+    struct Case {
+        const char *name;
+        const char *obj;
+        Point3f ref;
+    };
+    // Below the lights (their front side), from nearly a hemisphere to a small solid angle,
+    // face on and at a slant.
+    const std::vector<Case> cases = {
+        {"square, 0.3 below its centre (4.6 sr)", kSquareFacingDown, Point3f(0, -0.3f, 0)},
+        {"square, below a corner", kSquareFacingDown, Point3f(0.9f, -0.2f, 0.8f)},
+        {"square, far and at a slant", kSquareFacingDown, Point3f(4, -3, 1)},
+        {"large triangle, close", kTriangleFacingDown, Point3f(0, -0.4f, 0)},
+    };
+    ChiSquareOptions options;
+    options.resolution = 20;
+    options.sampleCount = 1000000;
+    options.significanceLevel = sidakCorrection(0.01, static_cast<int>(cases.size()));
+    for (const Case &c : cases) {
+        CAPTURE(c.name);
+        LightFixture fixture(c.obj);
+        // The case is one for solid-angle sampling: the density is 1/Ω of the whole light.
+        const auto &mesh = dynamic_cast<const Mesh &>(*fixture.shape);
+        float total = 0.0f;
+        for (const Vector3i &face : mesh.faces())
+            total +=
+                sphericalTriangleSolidAngle(mesh.positions()[face[0]], mesh.positions()[face[1]],
+                                            mesh.positions()[face[2]], c.ref);
+        CAPTURE(total);
+        EmitterQueryRecord lRec(c.ref);
+        REQUIRE((fixture.light->sample(lRec, Point2f(0.3f, 0.6f)) != 0.0f).any());
+        CHECK(lRec.pdf == Approx(1.0f / total).epsilon(1e-5));
+        CHECK(fixture.light->pdf(lRec) == Approx(1.0f / total).epsilon(1e-5));
+
+        options.seed += 1;
+        const ChiSquareReport report =
+            runChiSquareTest(emitterRoutine(*fixture.light, c.ref), options);
+        INFO(report.result.message);
+        CHECK(report.result.passed);
+    }
+
+    // The control: Arvo's second step with its cos θ to b no longer uniform (the point
+    // drawn by √u along the arc instead of u), which crowds the samples toward c′.
+    LightFixture fixture(kSquareFacingDown);
+    const Point3f ref(0.9f, -0.2f, 0.8f);
+    const SamplingRoutine right = emitterRoutine(*fixture.light, ref);
+    SamplingRoutine wrong = right;
+    wrong.sample = [right](const Point2f &u, Vector3f &wi) {
+        return right.sample(Point2f(u.x(), std::sqrt(u.y())), wi);
+    };
+    options.seed += 1;
+    CHECK_FALSE(runChiSquareTest(wrong, options).result.passed);
+}
+
+TEST_CASE("A triangle light nearly a point, or asked to, is sampled by area, consistently",
+          "[lights][spherical]") {
+    // 100 below, each triangle subtends 2·10⁻⁴ sr, under the bound of 3·10⁻⁴; 0.3 below,
+    // 2.3 sr, but the light asks for area sampling.
+    const std::vector<std::pair<Point3f, std::string>> cases = {
+        {Point3f(0.2f, -100.0f, 0.1f), ""},
+        {Point3f(0.0f, -0.3f, 0.0f), R"(<string name="sampling" value="area"/>)"}};
+    for (const auto &[ref, extra] : cases) {
+        CAPTURE(extra);
+        LightFixture fixture(kSquareFacingDown, extra);
+        EmitterQueryRecord lRec(ref);
+        REQUIRE((fixture.light->sample(lRec, Point2f(0.3f, 0.6f)) != 0.0f).any());
+        const float cosTheta = std::abs(lRec.n.dot(lRec.wi));
+        const float areaDensity = (lRec.p - ref).squaredNorm() / (4.0f * cosTheta);
+        CHECK(lRec.pdf == Approx(areaDensity).epsilon(1e-5));
+        CHECK(fixture.light->pdf(lRec) == Approx(areaDensity).epsilon(1e-5));
+    }
+    CHECK_THAT(errorOf([] {
+                   LightFixture(kSquareFacingDown, R"(<string name="sampling" value="cone"/>)");
+               }),
+               Catch::Contains("'sampling' is \"cone\""));
+}
+
+TEST_CASE("A floor under a close square light gets the light of its form factor",
+          "[lights][spherical]") {
+    // A square of side 2 at height h = 1/2 above a diffuse floor (albedo 1/2), facing it,
+    // radiance 1. Below its centre, ∫cos θ dω is four corner rectangles of sides a = 1:
+    // with X = a/h, each π·F = X/√(1 + X²) · atan(X/√(1 + X²)) (the differential-area to
+    // parallel-rectangle form factor, Howell's catalogue, configuration B-3).
+    const double x = 1.0 / 0.5, root = std::sqrt(1.0 + x * x);
+    const double projectedSolidAngle = 4.0 * (x / root) * std::atan(x / root);
+    const double reference = 0.5 / kPi * projectedSolidAngle;
+    TempDir dir;
+    const std::string light = dir.write("light.obj", kSquareFacingDown);
+    for (const std::string integrator : {"direct_ems", "direct_mis"}) {
+        CAPTURE(integrator);
+        auto scene = loadScene(fmt::format(R"(<scene> <integrator type="{}"/>
+            <sampler type="independent"><integer name="sampleCount" value="1"/></sampler>
+            <camera type="perspective"><float name="fov" value="0.001"/>
+                <integer name="width" value="1"/> <integer name="height" value="1"/>
+                <transform name="toWorld"><lookat origin="0, 0.25, 0.6" target="0, 0, 0" up="0, 1, 0"/></transform>
+            </camera>
+            <mesh type="obj"><string name="filename" value="{}/scenes/textured/meshes/floor.obj"/>
+                <transform name="toWorld"><scale value="1000"/></transform>
+                <bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf></mesh>
+            <mesh type="obj"><string name="filename" value="{}"/>
+                <transform name="toWorld"><translate value="0, 0.5, 0"/></transform>
+                <emitter type="area"><color name="radiance" value="1"/></emitter></mesh>
+            </scene>)",
+                                           integrator, NORI_SOURCE_DIR, light));
+        const PixelTTest test = tTestPixel(*scene, reference, 20000);
+        INFO(test.summary());
+        CHECK(test.result.passed);
+    }
+}
+
+namespace {
+
+/// scenes/window/window.xml at 48 × 48 pixels, its window sampled by `sampling`, with the
+/// radiance `radiance`.
+AgreementScene windowRoom(const std::string &sampling, const std::string &radiance) {
+    AgreementScene scene;
+    scene.name = "window-" + sampling;
+    scene.body = fmt::format(R"(
+        <camera type="perspective"><float name="fov" value="70"/>
+            <integer name="width" value="48"/> <integer name="height" value="48"/>
+            <transform name="toWorld"><lookat origin="1.7, 1.4, 1.3" target="-1, 0.8, -1.4" up="0, 1, 0"/></transform>
+        </camera>
+        <mesh type="obj"><string name="filename" value="{0}/scenes/window/meshes/room.obj"/>
+            <bsdf type="diffuse"><color name="albedo" value="0.7, 0.68, 0.64"/></bsdf></mesh>
+        <mesh type="obj"><string name="filename" value="{0}/scenes/window/meshes/window.obj"/>
+            <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+            <emitter type="area"><color name="radiance" value="{1}"/>
+                <string name="sampling" value="{2}"/></emitter></mesh>
+        <mesh type="sphere"><point name="center" value="-1.3, 0.45, -1.2"/>
+            <float name="radius" value="0.45"/>
+            <bsdf type="diffuse"><color name="albedo" value="0.6, 0.25, 0.2"/></bsdf></mesh>)",
+                             NORI_SOURCE_DIR, radiance, sampling);
+    // The floor below the window, which sees it large and at grazing angles.
+    scene.regions = {{"floor by the window", 0, 30, 20, 18}};
+    Estimator pathMIS;
+    pathMIS.label = "path_mis";
+    pathMIS.integrator = R"(<integrator type="path_mis"/>)";
+    pathMIS.samplesPerPixel = 64;
+    scene.estimators = {pathMIS};
+    return scene;
+}
+
+} // namespace
+
+TEST_CASE("A window sampled in solid angle lights a room as one sampled by area",
+          "[lights][spherical][agreement]") {
+    // The control: a window 1 % brighter, sampled in solid angle, disagrees.
+    AgreementSettings settings;
+    const AgreementScene byArea = windowRoom("area", "5, 5.5, 6.5");
+    const AgreementScene bySolidAngle = windowRoom("solidangle", "5, 5.5, 6.5");
+    const AgreementScene brighter = windowRoom("solidangle", "5.05, 5.555, 6.565");
+    const auto reference = estimateRegions(byArea, byArea.estimators[0], 0, settings);
+    const auto estimate = estimateRegions(bySolidAngle, bySolidAngle.estimators[0], 1, settings);
+    const auto control = estimateRegions(brighter, brighter.estimators[0], 2, settings);
+    REQUIRE(reference.size() == 2);
+    for (size_t region = 0; region < reference.size(); ++region) {
+        CAPTURE(region);
+        const AgreementCell cell = compareEstimates(estimate[region], reference[region], settings);
+        const AgreementCell wrong = compareEstimates(control[region], reference[region], settings);
+        INFO("solid angle against area: " << cell.z << " SE; 1 % brighter: " << wrong.z
+                                          << " SE; detectable bias (%): "
+                                          << 100 * cell.detectableBias);
+        CHECK(cell.agrees);
+        CHECK_FALSE(wrong.agrees);
+    }
+}
