@@ -60,8 +60,10 @@ TEST_CASE("A triangle's solid angle: an octant is π/2, a point in its plane see
           Approx(0.5 / 10000.0).epsilon(1e-3));
     CHECK(sphericalTriangleSolidAngle(Point3f(0, 0, 0), Point3f(1, 0, 0), Point3f(0, 1, 0),
                                       Point3f(5, 7, 0)) == 0.0f);
-    CHECK_FALSE(sampleSphericalTriangle(Point3f(0, 0, 0), Point3f(1, 0, 0), Point3f(0, 1, 0),
-                                        Point3f(5, 7, 0), Point2f(0.5f, 0.5f)));
+    const SphericalTriangle edgeOn(Vector3f(-5, -7, 0).normalized(),
+                                   Vector3f(-4, -7, 0).normalized(),
+                                   Vector3f(-5, -6, 0).normalized());
+    CHECK_FALSE(sampleSphericalTriangle(edgeOn, Point2f(0.5f, 0.5f)));
 }
 
 TEST_CASE("Triangle lights seen up close are sampled uniformly in solid angle (chi-square)",
@@ -76,7 +78,7 @@ TEST_CASE("Triangle lights seen up close are sampled uniformly in solid angle (c
     const std::vector<Case> cases = {
         {"square, 0.3 below its centre (4.6 sr)", kSquareFacingDown, Point3f(0, -0.3f, 0)},
         {"square, below a corner", kSquareFacingDown, Point3f(0.9f, -0.2f, 0.8f)},
-        {"square, far and at a slant", kSquareFacingDown, Point3f(4, -3, 1)},
+        {"square, at a slant", kSquareFacingDown, Point3f(2, -1.5f, 0.5f)},
         {"large triangle, close", kTriangleFacingDown, Point3f(0, -0.4f, 0)},
     };
     ChiSquareOptions options;
@@ -119,12 +121,14 @@ TEST_CASE("Triangle lights seen up close are sampled uniformly in solid angle (c
     CHECK_FALSE(runChiSquareTest(wrong, options).result.passed);
 }
 
-TEST_CASE("A triangle light nearly a point, or asked to, is sampled by area, consistently",
+TEST_CASE("A triangle light far, nearly a point, or asked to, is sampled by area, consistently",
           "[lights][spherical]") {
-    // 100 below, each triangle subtends 2·10⁻⁴ sr, under the bound of 3·10⁻⁴; 0.3 below,
-    // 2.3 sr, but the light asks for area sampling.
+    // 100 below, each triangle subtends 2·10⁻⁴ sr, under the bound of 3·10⁻⁴; 3 below,
+    // beyond twice the light's bounding radius √2; 0.3 below, 2.3 sr, but the light asks
+    // for area sampling.
     const std::vector<std::pair<Point3f, std::string>> cases = {
         {Point3f(0.2f, -100.0f, 0.1f), ""},
+        {Point3f(0.0f, -3.0f, 0.0f), ""},
         {Point3f(0.0f, -0.3f, 0.0f), R"(<string name="sampling" value="area"/>)"}};
     for (const auto &[ref, extra] : cases) {
         CAPTURE(extra);

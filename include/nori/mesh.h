@@ -4,6 +4,7 @@
 
 #include <nori/dpdf.h>
 #include <nori/shape.h>
+#include <nori/sphericaltriangle.h>
 #include <nori/transform.h>
 
 #include <array>
@@ -37,17 +38,24 @@ public:
     /// A triangle chosen by area, then a uniform point on it (PBR 4th ed. §6.5.4); the
     /// normal is the geometric one on the side of the vertex normals.
     ShapeSample sampleSurface(const Point2f &sample) const override;
-    /// Seen from ref, a mesh of at most kMaxSolidAngleTriangles triangles, each subtending
-    /// a solid angle within the bounds of sphericaltriangle.h, is sampled uniformly in
-    /// solid angle: a triangle chosen in proportion to its solid angle, then a direction
-    /// uniform within it (Arvo 1995), so the density is 1/Ω of the whole mesh. Otherwise
-    /// (a larger mesh, a triangle nearly a point or nearly a hemisphere, ref in a
-    /// triangle's plane), by area as Shape does. pdfFromReference makes the same choice.
+    /// Seen from a point ref within kSolidAngleSamplingReach radii of its bounding
+    /// sphere's centre, a mesh of at most kMaxSolidAngleTriangles triangles, each
+    /// subtending a solid angle within the bounds of sphericaltriangle.h, is sampled
+    /// uniformly in solid angle: a triangle chosen in proportion to its solid angle, then a
+    /// direction uniform within it (Arvo 1995), so the density is 1/Ω of the whole mesh.
+    /// Otherwise (a larger or a distant mesh, a triangle nearly a point or nearly a
+    /// hemisphere, ref in a triangle's plane), by area as Shape does. pdfFromReference
+    /// makes the same choice.
     ShapeSample sampleFromReference(const Point3f &ref, const Point2f &sample) const override;
     float pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const override;
     /// Meshes with more triangles are sampled by area: the choice by solid angle costs one
     /// solid angle per triangle for every sample and every density.
     static constexpr uint32_t kMaxSolidAngleTriangles = 8;
+    /// Farther away, in radii of the bounding sphere, a light is sampled by area: seen
+    /// within a cone of half-angle 30°, its area density d²/cos θ varies little enough that
+    /// the spherical trigonometry (about a quarter of a diffuse Cornell box's render time)
+    /// does not pay for itself (scripts/bench_lights.sh; docs/design/figures.md).
+    static constexpr float kSolidAngleSamplingReach = 2.0f;
 
     const std::vector<Point3f> &positions() const { return m_positions; }
     const std::vector<Normal3f> &normals() const { return m_normals; }
@@ -96,10 +104,11 @@ protected:
     /// The point at barycentrics (b1, b2) of a triangle: position, front-side geometric
     /// normal and uv; pdf left 0.
     ShapeSample pointOnTriangle(uint32_t index, float b1, float b2) const;
-    /// The solid angle of each triangle at ref, and their sum, when the mesh is sampled
-    /// in solid angle from ref (see sampleFromReference); nothing otherwise.
-    using SolidAngles = std::array<float, kMaxSolidAngleTriangles>;
-    bool solidAnglesFrom(const Point3f &ref, SolidAngles &solidAngles, float &total) const;
+    /// Each triangle as seen from ref, and the sum of their solid angles, when the mesh is
+    /// sampled in solid angle from ref (see sampleFromReference); false otherwise.
+    using SphericalTriangles = std::array<SphericalTriangle, kMaxSolidAngleTriangles>;
+    bool sphericalTrianglesFrom(const Point3f &ref, SphericalTriangles &triangles,
+                                float &total) const;
 
     std::string m_name;               ///< e.g. the file name, for messages
     std::vector<Point3f> m_positions; ///< vertex positions

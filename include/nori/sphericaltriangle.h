@@ -1,6 +1,6 @@
 // Spherical triangles: the solid angle a triangle subtends at a point, and directions
 // sampled uniformly within it (Arvo 1995, "Stratified sampling of spherical triangles";
-// PBR 4th ed. §6.5.4), returned as barycentrics of the point they hit.
+// PBR 4th ed. §6.5.4).
 #pragma once
 
 #include <nori/vector.h>
@@ -16,21 +16,34 @@ namespace nori {
 inline constexpr float kMinSphericalTriangleSolidAngle = 3e-4f;
 inline constexpr float kMaxSphericalTriangleSolidAngle = 6.22f;
 
-/// The solid angle of triangle (p0, p1, p2) seen from `ref`, in [0, 2π): Van Oosterom and
-/// Strackee 1983, Ω = 2·atan2(|a·(b × c)|, 1 + a·b + b·c + c·a) for the unit vectors a,
-/// b, c from ref to the vertices. Zero when ref lies in the triangle's plane.
+/// A triangle as seen from a point: the unit vectors a, b, c toward its vertices and the
+/// solid angle Ω they enclose, in [0, 2π): Van Oosterom and Strackee 1983,
+/// Ω = 2·atan2(|a·(b × c)|, 1 + a·b + b·c + c·a). Zero when the point lies in the
+/// triangle's plane.
+struct SphericalTriangle {
+    Vector3f a, b, c;
+    float solidAngle = 0.0f;
+
+    SphericalTriangle() = default;
+    SphericalTriangle(const Vector3f &a, const Vector3f &b, const Vector3f &c);
+};
+
+/// The solid angle of triangle (p0, p1, p2) seen from `ref`.
 float sphericalTriangleSolidAngle(const Point3f &p0, const Point3f &p1, const Point3f &p2,
                                   const Point3f &ref);
 
-/// A direction from `ref` uniform in the solid angle of triangle (p0, p1, p2), by Arvo's
-/// construction: sample.x() chooses the area of a sub-triangle (a, b, c′) with c′ on the
-/// arc from a to c, sample.y() a point on the arc from b to c′ whose cos θ to b is
-/// uniform. Returns the barycentrics (b1, b2) of vertices p1 and p2 of the point where
-/// the direction meets the triangle, or nothing when the triangle is degenerate as seen
-/// from ref (a vertex at ref, or ref in its plane). The density is 1/Ω with Ω from
-/// sphericalTriangleSolidAngle, to float precision when Ω lies between the bounds above.
-std::optional<Point2f> sampleSphericalTriangle(const Point3f &p0, const Point3f &p1,
-                                               const Point3f &p2, const Point3f &ref,
-                                               const Point2f &sample);
+/// A direction uniform in the solid angle of `triangle` (density 1/Ω), by Arvo's
+/// construction: sample.x() chooses the area u·Ω of a sub-triangle (a, b, c′) with c′ on
+/// the arc from a to c, sample.y() a point on the arc from b to c′ whose cos θ to b is
+/// uniform. Nothing when the triangle is degenerate as seen (Ω = 0, a vertex at the point).
+std::optional<Vector3f> sampleSphericalTriangle(const SphericalTriangle &triangle,
+                                                const Point2f &sample);
+
+/// Where the ray from `ref` along the unit direction w meets the plane of triangle (p0,
+/// p1, p2) (Möller and Trumbore 1997): the barycentrics (b1, b2) of p1 and p2, clamped
+/// into the triangle (a direction sampled inside it can leave it by rounding). Nothing
+/// when w is parallel to the plane.
+std::optional<Point2f> barycentricsAlong(const Point3f &p0, const Point3f &p1, const Point3f &p2,
+                                         const Point3f &ref, const Vector3f &w);
 
 } // namespace nori

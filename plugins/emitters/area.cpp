@@ -5,8 +5,9 @@
  * else the side of its winding's normal.
  * Points are sampled in solid angle where the shape can: a sphere through the cone it
  * subtends, a mesh of at most 8 triangles uniformly in its spherical triangles (Arvo
- * 1995; PBR 4th ed. §6.5.4) unless one is nearly a point or nearly a hemisphere as seen
- * from the shading point; other meshes by area. `sampling="area"` samples every shape by
+ * 1995; PBR 4th ed. §6.5.4) when the shading point is within twice its bounding radius
+ * and no triangle is nearly a point or nearly a hemisphere as seen from it; otherwise,
+ * and other meshes, by area. `sampling="area"` samples every shape by
  * area (Nori 2's way), for comparisons. Photons leave a point uniform by area in a
  * cosine-weighted direction.
  *

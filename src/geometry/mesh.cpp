@@ -1,5 +1,4 @@
 #include <nori/mesh.h>
-#include <nori/sphericaltriangle.h>
 #include <nori/triangle.h>
 
 #include <array>
@@ -242,38 +241,48 @@ ShapeSample Mesh::sampleSurface(const Point2f &sample) const {
     return result;
 }
 
-bool Mesh::solidAnglesFrom(const Point3f &ref, SolidAngles &solidAngles, float &total) const {
+bool Mesh::sphericalTrianglesFrom(const Point3f &ref, SphericalTriangles &triangles,
+                                  float &total) const {
     if (m_faces.size() > kMaxSolidAngleTriangles)
+        return false;
+    // Farther than twice the radius of its bounding sphere, the light is sampled by area.
+    const float radius = kSolidAngleSamplingReach * 0.5f * m_bbox.getExtents().norm();
+    if ((m_bbox.getCenter() - ref).squaredNorm() > radius * radius)
         return false;
     total = 0.0f;
     for (uint32_t i = 0; i < m_faces.size(); ++i) {
         const Vector3i &face = m_faces[i];
-        solidAngles[i] = sphericalTriangleSolidAngle(m_positions[face[0]], m_positions[face[1]],
-                                                     m_positions[face[2]], ref);
-        if (!(solidAngles[i] >= kMinSphericalTriangleSolidAngle &&
-              solidAngles[i] <= kMaxSphericalTriangleSolidAngle))
+        triangles[i] = SphericalTriangle((m_positions[face[0]] - ref).normalized(),
+                                         (m_positions[face[1]] - ref).normalized(),
+                                         (m_positions[face[2]] - ref).normalized());
+        const float solidAngle = triangles[i].solidAngle;
+        if (!(solidAngle >= kMinSphericalTriangleSolidAngle &&
+              solidAngle <= kMaxSphericalTriangleSolidAngle))
             return false;
-        total += solidAngles[i];
+        total += solidAngle;
     }
     return total > 0.0f;
 }
 
 ShapeSample Mesh::sampleFromReference(const Point3f &ref, const Point2f &sample) const {
-    SolidAngles solidAngles;
+    SphericalTriangles triangles;
     float total = 0.0f;
-    if (!solidAnglesFrom(ref, solidAngles, total))
+    if (!sphericalTrianglesFrom(ref, triangles, total))
         return areaSampleFromReference(ref, sample);
     // Choose triangle i with probability Ω_i/Ω and reuse the rest of sample.x().
     uint32_t index = 0;
     float u = sample.x() * total;
-    while (index + 1 < m_faces.size() && u >= solidAngles[index])
-        u -= solidAngles[index++];
-    u = std::clamp(u / solidAngles[index], 0.0f, 1.0f);
+    while (index + 1 < m_faces.size() && u >= triangles[index].solidAngle)
+        u -= triangles[index++].solidAngle;
+    u = std::clamp(u / triangles[index].solidAngle, 0.0f, 1.0f);
 
+    const std::optional<Vector3f> direction =
+        sampleSphericalTriangle(triangles[index], Point2f(u, sample.y()));
+    if (!direction)
+        return {};
     const Vector3i &face = m_faces[index];
-    const std::optional<Point2f> barycentrics =
-        sampleSphericalTriangle(m_positions[face[0]], m_positions[face[1]], m_positions[face[2]],
-                                ref, Point2f(u, sample.y()));
+    const std::optional<Point2f> barycentrics = barycentricsAlong(
+        m_positions[face[0]], m_positions[face[1]], m_positions[face[2]], ref, *direction);
     if (!barycentrics)
         return {};
     ShapeSample result = pointOnTriangle(index, barycentrics->x(), barycentrics->y());
@@ -282,9 +291,9 @@ ShapeSample Mesh::sampleFromReference(const Point3f &ref, const Point2f &sample)
 }
 
 float Mesh::pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const {
-    SolidAngles solidAngles;
+    SphericalTriangles triangles;
     float total = 0.0f;
-    if (!solidAnglesFrom(ref, solidAngles, total))
+    if (!sphericalTrianglesFrom(ref, triangles, total))
         return areaPdfFromReference(ref, p, n);
     return 1.0f / total;
 }

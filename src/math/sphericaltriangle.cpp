@@ -7,14 +7,6 @@ namespace nori {
 
 namespace {
 
-/// The angle between two unit vectors, accurate near 0 and π where acos(dot) is not:
-/// 2·asin(|u − v|/2) (PBR 4th ed. §3.3.2).
-float angleBetween(const Vector3f &u, const Vector3f &v) {
-    if (u.dot(v) < 0.0f)
-        return kPi - 2.0f * std::asin(std::min(1.0f, (u + v).norm() / 2.0f));
-    return 2.0f * std::asin(std::min(1.0f, (v - u).norm() / 2.0f));
-}
-
 /// The unit vector along the part of v perpendicular to the unit vector w.
 Vector3f perpendicularPart(const Vector3f &v, const Vector3f &w) {
     return (v - v.dot(w) * w).normalized();
@@ -22,39 +14,39 @@ Vector3f perpendicularPart(const Vector3f &v, const Vector3f &w) {
 
 } // namespace
 
-float sphericalTriangleSolidAngle(const Point3f &p0, const Point3f &p1, const Point3f &p2,
-                                  const Point3f &ref) {
-    const Vector3f a = (p0 - ref).normalized(), b = (p1 - ref).normalized(),
-                   c = (p2 - ref).normalized();
+SphericalTriangle::SphericalTriangle(const Vector3f &a, const Vector3f &b, const Vector3f &c)
+    : a(a), b(b), c(c) {
     const float omega =
         2.0f * std::atan2(std::abs(a.dot(b.cross(c))), 1.0f + a.dot(b) + b.dot(c) + c.dot(a));
-    return std::isfinite(omega) ? std::abs(omega) : 0.0f;
+    solidAngle = std::isfinite(omega) ? std::abs(omega) : 0.0f;
 }
 
-std::optional<Point2f> sampleSphericalTriangle(const Point3f &p0, const Point3f &p1,
-                                               const Point3f &p2, const Point3f &ref,
-                                               const Point2f &sample) {
-    const Vector3f a = (p0 - ref).normalized(), b = (p1 - ref).normalized(),
-                   c = (p2 - ref).normalized();
-    // The great circles through each pair of vertices, by their normals; the triangle's
-    // angle at a vertex is the angle between the two circles that meet there.
-    Vector3f nAB = a.cross(b), nBC = b.cross(c), nCA = c.cross(a);
-    if (!(nAB.squaredNorm() > 0.0f && nBC.squaredNorm() > 0.0f && nCA.squaredNorm() > 0.0f))
+float sphericalTriangleSolidAngle(const Point3f &p0, const Point3f &p1, const Point3f &p2,
+                                  const Point3f &ref) {
+    return SphericalTriangle((p0 - ref).normalized(), (p1 - ref).normalized(),
+                             (p2 - ref).normalized())
+        .solidAngle;
+}
+
+std::optional<Vector3f> sampleSphericalTriangle(const SphericalTriangle &triangle,
+                                                const Point2f &sample) {
+    const Vector3f &a = triangle.a, &b = triangle.b, &c = triangle.c;
+    // The angle α at a is the angle between the arcs' tangents there, which a × b and
+    // a × c are, turned by 90° about a: cos α from their dot product, sin α from their
+    // cross product, (a × b) × (a × c) = (a·(b × c))·a, over the same lengths.
+    const Vector3f ab = a.cross(b), ac = a.cross(c);
+    const float lengths = ab.norm() * ac.norm();
+    if (!(lengths > 0.0f) || !(triangle.solidAngle > 0.0f))
         return std::nullopt;
-    nAB.normalize();
-    nBC.normalize();
-    nCA.normalize();
-    const float alpha = angleBetween(nAB, -nCA), beta = angleBetween(nBC, -nAB),
-                gamma = angleBetween(nCA, -nBC);
-    const float area = alpha + beta + gamma - kPi; // Girard's theorem
-    if (!(area > 0.0f))
-        return std::nullopt;
+    const float cosAlpha = std::clamp(ab.dot(ac) / lengths, -1.0f, 1.0f);
+    const float sinAlpha = std::min(std::abs(a.dot(b.cross(c))) / lengths, 1.0f);
 
     // Arvo's step 1: the sub-triangle (a, b, c′) of area Â = u·Ω has its vertex c′ on the
     // arc from a to c at cos(arc a c′) = q, with s, t = sin, cos (Â − α) and cos(arc a b).
-    const float areaSub = sample.x() * area;
-    const float s = std::sin(areaSub - alpha), t = std::cos(areaSub - alpha);
-    const float cosAlpha = std::cos(alpha), sinAlpha = std::sin(alpha);
+    const float areaSub = sample.x() * triangle.solidAngle;
+    const float sinArea = std::sin(areaSub), cosArea = std::cos(areaSub);
+    const float s = sinArea * cosAlpha - cosArea * sinAlpha;
+    const float t = cosArea * cosAlpha + sinArea * sinAlpha;
     const float u = t - cosAlpha, v = s + sinAlpha * a.dot(b);
     const float q =
         std::clamp(((v * t - u * s) * cosAlpha - v) / ((v * s + u * t) * sinAlpha), -1.0f, 1.0f);
@@ -63,12 +55,17 @@ std::optional<Point2f> sampleSphericalTriangle(const Point3f &p0, const Point3f 
     // Step 2: a point on the arc from b to c′, with cos θ to b uniform between 1 and b·c′.
     const float z = 1.0f - sample.y() * (1.0f - cPrime.dot(b));
     const Vector3f w = z * b + safeSqrt(1.0f - z * z) * perpendicularPart(cPrime, b);
+    if (!w.allFinite())
+        return std::nullopt;
+    return w;
+}
 
-    // Where the ray ref + t·w meets the triangle's plane (Möller and Trumbore 1997).
+std::optional<Point2f> barycentricsAlong(const Point3f &p0, const Point3f &p1, const Point3f &p2,
+                                         const Point3f &ref, const Vector3f &w) {
     const Vector3f e1 = p1 - p0, e2 = p2 - p0;
     const Vector3f s1 = w.cross(e2);
     const float divisor = s1.dot(e1);
-    if (!(divisor != 0.0f) || !w.allFinite())
+    if (!(divisor != 0.0f))
         return std::nullopt;
     const Vector3f fromP0 = ref - p0;
     float b1 = std::clamp(fromP0.dot(s1) / divisor, 0.0f, 1.0f);
