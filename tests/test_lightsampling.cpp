@@ -176,6 +176,11 @@ TEST_CASE("A floor under a close square light gets the light of its form factor"
         const PixelTTest test = tTestPixel(*scene, reference, 20000);
         INFO(test.summary());
         CHECK(test.result.passed);
+        // The control: the same estimate against a reference 2 % too large (what a light
+        // sampled with its density 2 % too small gives) is rejected.
+        CHECK_FALSE(studentTTest(test.moments.mean, test.moments.variance(), test.moments.count,
+                                 1.02 * reference, 0.01)
+                        .passed);
     }
 }
 
