@@ -4,10 +4,13 @@
 
 #include <nori/bbox.h>
 #include <nori/color.h>
+#include <nori/lightbounds.h>
 #include <nori/object.h>
 #include <nori/ray.h>
 #include <nori/shape.h>
 #include <nori/texture.h>
+
+#include <optional>
 
 namespace nori {
 
@@ -89,6 +92,10 @@ public:
     virtual bool requiresShape() const { return false; }
     /// Total emitted power (flux); the scene picks lights in proportion to its luminance.
     virtual Color3f getPower() const = 0;
+    /// Where the light is, which way it faces and its power, for choosing among many
+    /// lights by importance at a point (LightBVH). None (the default) for lights at
+    /// infinity and for plugins that give none: those are chosen beside the light tree.
+    virtual std::optional<LightBounds> lightBounds() const { return std::nullopt; }
 
     /// Samples a photon leaving the light (photon mapping): sets `ray` to its origin and
     /// direction and returns its power weight Le·|cos θ|/(pdf_A·pdf_ω) (for a delta light

@@ -38,6 +38,9 @@ public:
     /// A triangle chosen by area, then a uniform point on it (PBR 4th ed. §6.5.4); the
     /// normal is the geometric one on the side of the vertex normals.
     ShapeSample sampleSurface(const Point2f &sample) const override;
+    /// The cone of the faces' normals as sampleSurface() orients them: a face whose
+    /// vertex normals disagree about its front adds both of its sides.
+    DirectionCone normalBounds() const override;
     /// Seen from a point ref within kSolidAngleSamplingReach radii of its bounding
     /// sphere's centre, a mesh of at most kMaxSolidAngleTriangles triangles, each
     /// subtending a solid angle within the bounds of sphericaltriangle.h, is sampled

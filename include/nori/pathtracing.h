@@ -26,7 +26,8 @@ inline float balanceHeuristic(float pdf, float otherPdf) {
 }
 
 /// One light sample at the surface point `its` (next-event estimation; PBR 4th ed.
-/// §13.4.2): picks a light by power (pmf from Scene::sampleEmitter), samples a point on
+/// §13.4.2): picks a light for its.p and its shading normal (pmf from
+/// Scene::sampleEmitter), samples a point on
 /// it, tests visibility and returns its contribution f·L·|cos θ|/(pdf·pmf) toward
 /// wiLocal (local). With `mis`, the contribution carries the balance-heuristic weight
 /// against BSDF sampling (delta lights keep weight 1). `emitterSample` picks the light,
@@ -46,9 +47,10 @@ Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSD
 /// The emission `emitter` sends along a scattered (or camera) ray that found it: all of it
 /// after a specular event, else weighted by the balance heuristic against next-event
 /// estimation, whose density is the pmf of sampleEmitter times the light's own.
-/// `scatterPdf` is the solid-angle density with which the last vertex chose the ray.
+/// `scatterPdf` is the solid-angle density with which the last vertex (lRec.ref, of
+/// shading normal `refNormal`, zero in a medium) chose the ray.
 Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const EmitterQueryRecord &lRec,
-                        bool specularBounce, float scatterPdf);
+                        const Normal3f &refNormal, bool specularBounce, float scatterPdf);
 
 /// How long a path may grow: `maxDepth` scattering events after the camera ray (−1: no
 /// limit) and Russian roulette from event `rrDepth` on.

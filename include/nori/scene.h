@@ -6,6 +6,7 @@
 #include <nori/emitter.h>
 #include <nori/instance.h>
 #include <nori/integrator.h>
+#include <nori/lightbvh.h>
 #include <nori/sampler.h>
 
 #include <unordered_map>
@@ -38,13 +39,21 @@ public:
     /// Every light: area lights of shapes and the scene's own (point) lights.
     const std::vector<std::shared_ptr<Emitter>> &getEmitters() const { return m_emitters; }
 
-    /// Picks a light with probability proportional to its power (luminance); `u` is
-    /// rescaled for reuse. nullptr when the scene has no light.
+    /// Picks a light with probability proportional to its power (luminance), wherever
+    /// it is to light (photon emission); `u` is rescaled for reuse. nullptr when the
+    /// scene has no light.
     const Emitter *sampleEmitter(float &u, float &pmf) const;
+    /// The probability that sampleEmitter(u, pmf) picks `emitter`.
+    float emitterPmf(const Emitter *emitter) const;
+    /// Picks a light to light the point p (n: the surface normal there, zero in a
+    /// medium) for next-event estimation, as the scene's `lightSampler` says: by its
+    /// importance at p (`bvh`, the light tree; the default) or by power alone (`power`).
+    /// nullptr when no light can reach p.
+    const Emitter *sampleEmitter(const Point3f &p, const Normal3f &n, float &u, float &pmf) const;
+    /// The probability that sampleEmitter(p, n, u, pmf) picks `emitter`.
+    float emitterPmf(const Point3f &p, const Normal3f &n, const Emitter *emitter) const;
     /// The lights at infinity, which rays that leave the scene see.
     const std::vector<const Emitter *> &getInfiniteEmitters() const { return m_infiniteEmitters; }
-    /// The probability that sampleEmitter picks `emitter`.
-    float emitterPmf(const Emitter *emitter) const;
 
     /// The camera ray for a film sample (Camera::sampleRay), with ray differentials when
     /// some texture of the scene is filtered over the pixel footprint (they cost about 10%
@@ -80,6 +89,8 @@ private:
     std::vector<std::shared_ptr<Emitter>> m_emitters;
     std::vector<const Emitter *> m_infiniteEmitters;
     DiscretePDF m_emitterPdf;
+    LightBVH m_lightTree;
+    bool m_lightsByPower = false; ///< `lightSampler` is "power": no tree
     std::unordered_map<const Emitter *, size_t> m_emitterIndex;
     std::shared_ptr<Integrator> m_integrator;
     std::shared_ptr<Camera> m_camera;

@@ -7,6 +7,7 @@
 
 #include <nori/bbox.h>
 #include <nori/frame.h>
+#include <nori/lightbounds.h>
 #include <nori/object.h>
 #include <nori/transform.h>
 
@@ -103,6 +104,10 @@ public:
 
     /// Total surface area.
     virtual float getArea() const = 0;
+    /// A cone that holds the normals sampleSurface() returns (the side an area light
+    /// emits from), for the light tree's bounds. The default is the whole sphere, right
+    /// for any shape; a mesh gives the cone of its faces.
+    virtual DirectionCone normalBounds() const { return DirectionCone::entireSphere(); }
 
     /// A point uniformly distributed over the surface (pdf = 1/area).
     virtual ShapeSample sampleSurface(const Point2f &sample) const = 0;

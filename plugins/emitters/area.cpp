@@ -109,6 +109,18 @@ public:
         return m_radiance->average().max(0.0f) * (kPi * m_shape->getArea());
     }
 
+    // The shape's box and the cone of its normals, from which it emits up to 90°.
+    std::optional<LightBounds> lightBounds() const override {
+        const DirectionCone normals = m_shape->normalBounds();
+        LightBounds bounds;
+        bounds.bounds = m_shape->getBoundingBox();
+        bounds.w = normals.w;
+        bounds.cosThetaO = normals.cosTheta;
+        bounds.cosThetaE = 0.0f;
+        bounds.phi = getPower().getLuminance();
+        return bounds;
+    }
+
     std::string toString() const override {
         return fmt::format("AreaLight[radiance={}, sampling={}]", m_radiance->toString(),
                            m_byArea ? "area" : "solidangle");

@@ -40,6 +40,15 @@ public:
     float pdf(const EmitterQueryRecord &) const override { return 0.0f; }
     bool isDelta() const override { return true; }
     Color3f getPower() const override { return m_intensity * (4.0f * kPi); }
+    // A point that emits in every direction (θo = π, θe = π/2).
+    std::optional<LightBounds> lightBounds() const override {
+        LightBounds bounds;
+        bounds.bounds = BoundingBox3f(m_position);
+        bounds.cosThetaO = -1.0f;
+        bounds.cosThetaE = 0.0f;
+        bounds.phi = kPi * m_intensity.getLuminance();
+        return bounds;
+    }
 
     std::string toString() const override {
         return fmt::format("PointLight[position=({}, {}, {}), intensity=({}, {}, {})]",

@@ -116,6 +116,16 @@ public:
     float pdf(const EmitterQueryRecord &) const override { return 0.0f; }
     bool isDelta() const override { return true; }
     Color3f getPower() const override { return m_intensity * solidAngle(); }
+    // A point that emits about its axis up to the cutoff angle (θo = 0, θe = cutoff).
+    std::optional<LightBounds> lightBounds() const override {
+        LightBounds bounds;
+        bounds.bounds = BoundingBox3f(m_position);
+        bounds.w = m_axis;
+        bounds.cosThetaO = 1.0f;
+        bounds.cosThetaE = m_cosCutoff;
+        bounds.phi = kPi * m_intensity.getLuminance();
+        return bounds;
+    }
 
     std::string toString() const override {
         return fmt::format("SpotLight[position=({}, {}, {}), axis=({}, {}, {}), intensity=({}, "

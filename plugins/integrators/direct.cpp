@@ -46,7 +46,8 @@ public:
         Color3f radiance(0.0f);
         Intersection its;
         if (!scene->rayIntersect(cameraRay, its)) {
-            addLightAtInfinity(radiance, Color3f(1.0f), scene, cameraRay, true, 0.0f);
+            addLightAtInfinity(radiance, Color3f(1.0f), scene, cameraRay, Normal3f::Zero(), true,
+                               0.0f);
             return radiance;
         }
         if (const Emitter *emitter = its.shape->getEmitter())
@@ -76,10 +77,10 @@ public:
         const Ray3f ray = spawnScatteredRay(its, cameraRay, bRec);
         Intersection next;
         if (!scene->rayIntersect(ray, next))
-            addLightAtInfinity(radiance, weight, scene, ray, specular, bsdfPdf);
+            addLightAtInfinity(radiance, weight, scene, ray, its.shFrame.n, specular, bsdfPdf);
         else if (const Emitter *emitter = next.shape->getEmitter())
             radiance += weight * foundEmission(scene, *emitter, EmitterQueryRecord(its.p, next),
-                                               specular, bsdfPdf);
+                                               its.shFrame.n, specular, bsdfPdf);
         return radiance;
     }
 
@@ -90,18 +91,20 @@ private:
     /// bounce or with BSDF sampling alone, else the balance heuristic against emitter
     /// sampling.
     Color3f foundEmission(const Scene *scene, const Emitter &emitter,
-                          const EmitterQueryRecord &lRec, bool specular, float bsdfPdf) const {
+                          const EmitterQueryRecord &lRec, const Normal3f &refNormal, bool specular,
+                          float bsdfPdf) const {
         if (specular || m_strategy == Strategy::BSDFSampling)
             return emitter.eval(lRec);
-        return emissionWithMIS(scene, emitter, lRec, false, bsdfPdf);
+        return emissionWithMIS(scene, emitter, lRec, refNormal, false, bsdfPdf);
     }
 
     /// Adds the lights at infinity that a ray leaving the scene sees, times `weight`.
     void addLightAtInfinity(Color3f &radiance, const Color3f &weight, const Scene *scene,
-                            const Ray3f &ray, bool specular, float bsdfPdf) const {
+                            const Ray3f &ray, const Normal3f &refNormal, bool specular,
+                            float bsdfPdf) const {
         for (const Emitter *emitter : scene->getInfiniteEmitters())
             radiance += weight * foundEmission(scene, *emitter, EmitterQueryRecord(ray, specular),
-                                               specular, bsdfPdf);
+                                               refNormal, specular, bsdfPdf);
     }
 
     Strategy m_strategy;

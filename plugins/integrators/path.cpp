@@ -47,6 +47,7 @@ public:
         bool specularBounce = true; // the camera "bounce": emission seen directly counts fully
         float bsdfPdf = 0.0f;       // density of the direction of `ray`, for MIS
         Point3f previous = ray.o;
+        Normal3f previousNormal = Normal3f::Zero(); // its shading normal, for the light's pmf
         for (int depth = 0;; ++depth) {
             // 1. Find the next vertex; a ray that leaves the scene sees the lights at
             //    infinity (environment maps, constant backgrounds).
@@ -55,14 +56,14 @@ public:
                 for (const Emitter *emitter : scene->getInfiniteEmitters())
                     radiance += throughput * foundEmission(scene, *emitter,
                                                            EmitterQueryRecord(ray, specularBounce),
-                                                           specularBounce, bsdfPdf);
+                                                           previousNormal, specularBounce, bsdfPdf);
                 break;
             }
             // 2. Emission of the surface the ray found (an area light).
             if (const Emitter *emitter = its.shape->getEmitter())
                 radiance +=
                     throughput * foundEmission(scene, *emitter, EmitterQueryRecord(previous, its),
-                                               specularBounce, bsdfPdf);
+                                               previousNormal, specularBounce, bsdfPdf);
             if (!m_depth.mayScatter(depth))
                 break;
 
@@ -93,6 +94,7 @@ public:
             bsdfPdf = bRec.measure == EDiscrete ? 0.0f : bsdf->pdf(bRec);
             throughput *= weight;
             previous = its.p;
+            previousNormal = its.shFrame.n;
             ray = spawnScatteredRay(its, ray, bRec);
 
             // 5. Russian roulette ends long paths of little throughput without bias.
@@ -113,13 +115,13 @@ private:
     /// with emitter sampling alone (next-event estimation counted it), and the balance
     /// heuristic against emitter sampling with MIS.
     Color3f foundEmission(const Scene *scene, const Emitter &emitter,
-                          const EmitterQueryRecord &lRec, bool specularBounce,
-                          float bsdfPdf) const {
+                          const EmitterQueryRecord &lRec, const Normal3f &refNormal,
+                          bool specularBounce, float bsdfPdf) const {
         if (specularBounce || m_strategy == Strategy::BSDFSampling)
             return emitter.eval(lRec);
         if (m_strategy == Strategy::EmitterSampling)
             return Color3f(0.0f);
-        return emissionWithMIS(scene, emitter, lRec, false, bsdfPdf);
+        return emissionWithMIS(scene, emitter, lRec, refNormal, false, bsdfPdf);
     }
 
     Strategy m_strategy;

@@ -72,6 +72,7 @@ public:
         bool specularBounce = true; // the camera "bounce": emission seen directly counts fully
         float scatterPdf = 0.0f;    // density of the direction of `ray`, for MIS
         Point3f previous = ray.o;
+        Normal3f previousNormal = Normal3f::Zero(); // zero at a medium vertex
         int nullCrossings = 0;
         for (int depth = 0;;) {
             Intersection its;
@@ -104,6 +105,7 @@ public:
                     specularBounce = false;
                     scatterPdf = phase.pdf(pRec);
                     previous = mRec.p;
+                    previousNormal = Normal3f::Zero();
                     ray = Ray3f(mRec.p, pRec.wo, 0.0f, kInfinity);
                     nullCrossings = 0;
                     if (!russianRoulette(++depth, m_depth.rrDepth, throughput, rouletteSample))
@@ -117,13 +119,13 @@ public:
                     radiance +=
                         throughput * emissionWithMIS(scene, *emitter,
                                                      EmitterQueryRecord(ray, specularBounce),
-                                                     specularBounce, scatterPdf);
+                                                     previousNormal, specularBounce, scatterPdf);
                 break;
             }
             if (const Emitter *emitter = its.shape->getEmitter())
                 radiance +=
                     throughput * emissionWithMIS(scene, *emitter, EmitterQueryRecord(previous, its),
-                                                 specularBounce, scatterPdf);
+                                                 previousNormal, specularBounce, scatterPdf);
 
             const BSDF *bsdf = its.shape->getBSDF();
             const Vector3f wiLocal = its.toLocal(-ray.d);
@@ -165,6 +167,7 @@ public:
             scatterPdf = bRec.measure == EDiscrete ? 0.0f : bsdf->pdf(bRec);
             throughput *= weight;
             previous = its.p;
+            previousNormal = its.shFrame.n;
             medium = mediumBehind(its, wo, medium);
             ray = spawnScatteredRay(its, ray, bRec);
             nullCrossings = 0;
@@ -239,7 +242,7 @@ private:
                                const PhaseFunction &phase, const Vector3f &wi, float emitterSample,
                                const Point2f &sample, PCG32 &rng) const {
         float u = emitterSample, pmf;
-        const Emitter *emitter = scene->sampleEmitter(u, pmf);
+        const Emitter *emitter = scene->sampleEmitter(p, Normal3f::Zero(), u, pmf);
         if (!emitter || pmf == 0.0f)
             return Color3f(0.0f);
         EmitterQueryRecord lRec(p);

@@ -241,6 +241,39 @@ ShapeSample Mesh::sampleSurface(const Point2f &sample) const {
     return result;
 }
 
+DirectionCone Mesh::normalBounds() const {
+    DirectionCone cone;
+    const auto add = [&cone](const Vector3f &n) {
+        if (!cone.contains(n))
+            cone = coneUnion(cone, DirectionCone(n));
+    };
+    for (uint32_t i = 0; i < m_faces.size(); ++i) {
+        const Vector3i &face = m_faces[i];
+        const Vector3f edge1 = m_positions[face[1]] - m_positions[face[0]];
+        const Vector3f edge2 = m_positions[face[2]] - m_positions[face[0]];
+        const Vector3f geoNormal = edge1.cross(edge2).normalized();
+        if (!geoNormal.allFinite())
+            continue; // a degenerate face has no area, so no sample lands on it
+        if (m_normals.empty()) {
+            add(geoNormal);
+            continue;
+        }
+        // faceForward's choice, from the interpolated vertex normal: one side when the
+        // three vertex normals agree (so does every convex combination), else both.
+        bool front = false, back = false;
+        for (int k = 0; k < 3; ++k) {
+            const float side = geoNormal.dot(m_normals[face[k]]);
+            front = front || side >= 0.0f;
+            back = back || side < 0.0f;
+        }
+        if (front)
+            add(geoNormal);
+        if (back)
+            add(-geoNormal);
+    }
+    return cone.isEmpty() ? DirectionCone::entireSphere() : cone;
+}
+
 bool Mesh::sphericalTrianglesFrom(const Point3f &ref, SphericalTriangles &triangles,
                                   float &total) const {
     if (m_faces.size() > kMaxSolidAngleTriangles)

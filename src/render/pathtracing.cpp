@@ -18,7 +18,7 @@ Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSD
                           const Vector3f &wiLocal, bool mis, float emitterSample,
                           const Point2f &sample, const ShadowTransmittance &transmittance) {
     float u = emitterSample, pmf;
-    const Emitter *emitter = scene->sampleEmitter(u, pmf);
+    const Emitter *emitter = scene->sampleEmitter(its.p, its.shFrame.n, u, pmf);
     if (!emitter || pmf == 0.0f)
         return Color3f(0.0f);
     EmitterQueryRecord lRec(its.p);
@@ -43,11 +43,11 @@ Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSD
 }
 
 Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const EmitterQueryRecord &lRec,
-                        bool specularBounce, float scatterPdf) {
+                        const Normal3f &refNormal, bool specularBounce, float scatterPdf) {
     Color3f le = emitter.eval(lRec);
     if (specularBounce || (le == 0.0f).all())
         return le;
-    const float lightPdf = scene->emitterPmf(&emitter) * emitter.pdf(lRec);
+    const float lightPdf = scene->emitterPmf(lRec.ref, refNormal, &emitter) * emitter.pdf(lRec);
     return le * balanceHeuristic(scatterPdf, lightPdf);
 }
 

@@ -14,7 +14,12 @@ struct Scene::RayCounter {
 };
 
 Scene::Scene(const PropertyList &props) : m_rayCounter(std::make_unique<RayCounter>()) {
-    (void)props;
+    const std::string lightSampler = props.getString("lightSampler", "bvh");
+    if (lightSampler != "bvh" && lightSampler != "power")
+        throw NoriException("scene: 'lightSampler' is \"{}\"; it must be \"bvh\" (by "
+                            "importance at the point) or \"power\"",
+                            lightSampler);
+    m_lightsByPower = lightSampler == "power";
 }
 
 Scene::~Scene() = default;
@@ -130,6 +135,8 @@ void Scene::activate() {
     }
     if (!m_emitters.empty())
         m_emitterPdf.normalize();
+    if (!m_lightsByPower)
+        m_lightTree.build(m_emitters);
 }
 
 const Emitter *Scene::sampleEmitter(float &u, float &pmf) const {
@@ -143,6 +150,15 @@ const Emitter *Scene::sampleEmitter(float &u, float &pmf) const {
 float Scene::emitterPmf(const Emitter *emitter) const {
     auto it = m_emitterIndex.find(emitter);
     return it == m_emitterIndex.end() ? 0.0f : m_emitterPdf[it->second];
+}
+
+const Emitter *Scene::sampleEmitter(const Point3f &p, const Normal3f &n, float &u,
+                                    float &pmf) const {
+    return m_lightsByPower ? sampleEmitter(u, pmf) : m_lightTree.sample(p, n, u, pmf);
+}
+
+float Scene::emitterPmf(const Point3f &p, const Normal3f &n, const Emitter *emitter) const {
+    return m_lightsByPower ? emitterPmf(emitter) : m_lightTree.pmf(p, n, emitter);
 }
 
 std::string Scene::toString() const {
