@@ -1,12 +1,20 @@
 #!/usr/bin/env bash
-# Light sampling's figures: for the Cornell box (its one quad light; the glass sphere made
-# diffuse) and the window room (scenes/window, a large window quad seen at grazing angles),
-# the render time, the MSE against a converged reference and the Monte Carlo efficiency
-# 1/(time × MSE) of each sampler (independent, sobol) with the light sampled by area or in
-# solid angle, each relative to independent with area sampling (Nori 2's way). Each
-# configuration renders ROUNDS times with different seeds: the time is their median (and
-# range), the MSE their mean ± its standard error. The reference (sobol, solid angle,
-# REFERENCE_SPP) adds its own MSE, about SPP/REFERENCE_SPP of an independent render's.
+# Light sampling's figures, each configuration's render time, its error against a
+# converged reference and the Monte Carlo efficiency 1/(time × error), relative to the
+# first configuration of its scene:
+# - the Cornell box (its one quad light; the glass sphere made diffuse) and the window
+#   room (scenes/window, a large window quad seen at grazing angles): each sampler
+#   (independent, sobol) with the light sampled by area (Nori 2's way) or in solid angle;
+#   error: MSE;
+# - the many-light scene (scripts/make_many_lights.py: 1000 small lights over a floor):
+#   each sampler with the lights chosen by power or by the light tree (bvh); error: relMSE
+#   (the issue's measure: the lights' radiances span two decades);
+# - the Cornell box, Veach's plates, the envmap scene and the meadow at SPP: the time with
+#   the light tree against power selection, alternating, for the slowdown the tree costs.
+# Each configuration renders ROUNDS times with different seeds: the time is their median
+# (and range), the error their mean ± its standard error. The reference (sobol, the last
+# light option, REFERENCE_SPP) adds its own error, about SPP/REFERENCE_SPP of an
+# independent render's.
 #   scripts/bench_lights.sh [BUILD_DIR] [SPP] [REFERENCE_SPP] [ROUNDS] [SIZE]
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -24,23 +32,29 @@ render() { # scene, output name, then -D definitions; prints the render time in 
         sed -nE 's/^Done in ([0-9.]+) (m?s).*/\1 \2/p' |
         awk '{ print ($2 == "ms") ? $1 / 1000 : $1 }'
 }
-mse() { "$build/nori-imgtool" diff "$1" "$out/reference.exr" | awk '/^rmse/ { print $2 * $2 }'; }
+error() { # image; prints its MSE or relMSE (by $metric) against the reference
+    "$build/nori-imgtool" diff "$1" "$out/reference.exr" |
+        awk -v metric="$metric" '($1 == "rmse" && metric == "mse") { print $2 * $2 }
+                                 ($1 == "relmse" && metric == "relmse") { print $2 }'
+}
 
-bench_scene() { # title, scene, then -D definitions shared by every render
-    local title="$1" scene="$2"; shift 2
+# bench_scene TITLE SCENE VARIABLE "VALUES" [-D definitions shared by every render]:
+# every sampler with the scene's variable VARIABLE set to each of VALUES in turn.
+bench_scene() {
+    local title="$1" scene="$2" variable="$3" values="$4"; shift 4
     echo "== $title: $scene, ${size}x$size, $spp spp, $rounds rounds; reference $reference_spp spp"
-    render "$scene" reference "$@" -D sampler=sobol -D lightsampling=solidangle \
+    render "$scene" reference "$@" -D sampler=sobol -D "$variable=${values##* }" \
         -D spp="$reference_spp" -D seed=9999 > /dev/null
-    printf '%-24s %22s %24s %12s %9s\n' "sampler, light" "time (s) median, range" \
-        "MSE mean ± s.e." "efficiency" "relative"
+    printf '%-24s %22s %24s %12s %9s\n' "sampler, $variable" "time (s) median, range" \
+        "$metric mean ± s.e." "efficiency" "relative"
     local baseline=""
     for sampler in independent sobol; do
-        for lightsampling in area solidangle; do
+        for value in $values; do
             local times="" errors=""
             for round in $(seq 1 "$rounds"); do
                 times+="$(render "$scene" run "$@" -D sampler=$sampler \
-                    -D lightsampling=$lightsampling -D spp="$spp" -D seed="$round") "
-                errors+="$(mse "$out/run.exr") "
+                    -D "$variable=$value" -D spp="$spp" -D seed="$round") "
+                errors+="$(error "$out/run.exr") "
             done
             local line
             line=$(echo "$times" "|" "$errors" | awk -v baseline="$baseline" '
@@ -60,11 +74,49 @@ bench_scene() { # title, scene, then -D definitions shared by every render
                         t[n], mean, se, efficiency, relative, efficiency
                 }')
             [ -z "$baseline" ] && baseline="${line##* }"
-            printf '%-24s %s\n' "$sampler, $lightsampling" "${line% *}"
+            printf '%-24s %s\n' "$sampler, $value" "${line% *}"
         done
     done
     echo
 }
 
-bench_scene "Cornell box" "$here/scenes/cbox/cbox.xml" -D sphere=diffuse
-bench_scene "Window room" "$here/scenes/window/window.xml"
+# time_scene TITLE SCENE: the scene rendered with the light tree and with power
+# selection, alternately, ROUNDS times each; the median times and their ratio.
+time_scene() {
+    local title="$1" scene="$2" tree="" power=""
+    for round in $(seq 1 "$rounds"); do
+        power+="$(render "$scene" run -D spp="$spp" -D seed="$round" -D lightsampler=power) "
+        tree+="$(render "$scene" run -D spp="$spp" -D seed="$round" -D lightsampler=bvh) "
+    done
+    echo "$power" "|" "$tree" | awk -v title="$title" '
+        function median(a, n,    i, j, x) {
+            for (i = 2; i <= n; ++i)
+                for (j = i; j > 1 && a[j - 1] > a[j]; --j) { x = a[j]; a[j] = a[j - 1]; a[j - 1] = x }
+            return (n % 2) ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2
+        }
+        {
+            n = 0; m = 0
+            for (i = 1; $i != "|"; ++i) p[++n] = $i
+            for (i = i + 1; i <= NF; ++i) t[++m] = $i
+            mp = median(p, n); mt = median(t, m)
+            printf "%-16s %8.2f (%5.2f-%-5.2f) %8.2f (%5.2f-%-5.2f) %+7.1f %%\n", title, mp, p[1],
+                p[n], mt, t[1], t[m], 100 * (mt / mp - 1)
+        }'
+}
+
+metric=mse
+bench_scene "Cornell box" "$here/scenes/cbox/cbox.xml" lightsampling "area solidangle" \
+    -D sphere=diffuse
+bench_scene "Window room" "$here/scenes/window/window.xml" lightsampling "area solidangle"
+
+metric=relmse
+python3 "$here/scripts/make_many_lights.py" "$out/manylights" 1000 1
+bench_scene "Many lights" "$out/manylights/manylights.xml" lightsampler "power bvh"
+
+echo "== Light tree against power selection, $spp spp (the Cornell box at ${size}x$size, the others"
+echo "   at their own sizes), $rounds rounds each, alternating"
+printf '%-16s %22s %22s %8s\n' "scene" "power: median (range)" "bvh: median (range)" "change"
+time_scene "Cornell box" "$here/scenes/cbox/cbox.xml"
+time_scene "Veach" "$here/scenes/veach/veach.xml"
+time_scene "Envmap" "$here/scenes/envmap/envmap.xml"
+time_scene "Meadow" "$here/scenes/meadow/meadow.xml"

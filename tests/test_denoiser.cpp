@@ -126,10 +126,13 @@ TEST_CASE("Denoising the Cornell box at 16 spp cuts the relMSE eightfold", "[den
 }
 
 // NOT the issue's goal of 8x, which this denoiser misses on these two scenes (measured
-// 6.2x on the textured scene and 2.2x on Veach's plates at 16 spp, seed 1): the
+// 6.2x on the textured scene and 1.54x on Veach's plates at 16 spp, seed 1): the
 // highlights of smooth plates and the glossy sphere have no feature that explains them,
 // and Veach's smallest light, one pixel wide, is as noisy as the few samples that hit it.
 // These checks hold the measured gains so that a regression shows; the goal stays open.
+// Veach's gain was 2.2x with lights chosen by power (noisy 0.01136, denoised 0.00519);
+// the light tree (2026-12-03) lowered both (0.00686, 0.00444): the denoiser's output got
+// better, its ratio smaller, as what remains is more of its own residual.
 TEST_CASE("Denoising the textured and Veach scenes at 16 spp lowers the relMSE", "[denoiser]") {
     {
         const auto [noisy, denoised, blurred] = errorsOn("textured", 16);
@@ -139,7 +142,7 @@ TEST_CASE("Denoising the textured and Veach scenes at 16 spp lowers the relMSE",
     {
         const auto [noisy, denoised, blurred] = errorsOn("veach", 16);
         INFO("veach: relMSE noisy " << noisy << ", denoised " << denoised);
-        CHECK(denoised * 1.9 <= noisy);
+        CHECK(denoised * 1.33 <= noisy);
     }
 }
 
