@@ -77,23 +77,32 @@ float LightImportance::operator()(const Point3f &p, const Normal3f &n) const {
     const Vector3f fromCenter = p - center;
     const float distanceSquared = fromCenter.squaredNorm();
     const float distance = std::sqrt(distanceSquared);
-    // θw: the angle between the axis w and the direction from the centre to p.
-    const Vector3f wi = distance > 0.0f ? Vector3f(fromCenter / distance) : w;
-    float cosThetaW = w.dot(wi);
-    if (twoSided)
-        cosThetaW = std::abs(cosThetaW);
-    const float sinThetaW = safeSqrt(1.0f - cosThetaW * cosThetaW);
+    const float invDistance = distance > 0.0f ? 1.0f / distance : 0.0f;
+    const Vector3f wi = distance > 0.0f ? Vector3f(fromCenter * invDistance) : w;
     // θb: the half-angle the bounding sphere subtends at p (π from inside it).
     float sinThetaB = 0.0f, cosThetaB = -1.0f;
     if (distance > radius) {
-        sinThetaB = radius / distance;
+        sinThetaB = radius * invDistance;
         cosThetaB = safeSqrt(1.0f - sinThetaB * sinThetaB);
     }
-    // θ' = max(0, θw − θo − θb): the smallest angle between a normal and a direction
-    // from a point of the bounds to p. Beyond θe, nothing reaches p.
-    const float cosThetaX = cosSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
-    const float sinThetaX = sinSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
-    const float cosThetaP = cosSubClamped(sinThetaX, cosThetaX, sinThetaB, cosThetaB);
+    // θ' = max(0, θw − θo − θb), with θw the angle between the axis w and the direction
+    // from the centre to p: the smallest angle between a normal and a direction from a
+    // point of the bounds to p. Beyond θe, nothing reaches p. (Each clamped difference
+    // is 0 when its first angle is the smaller, which spares the square roots of the
+    // lights that emit every way.)
+    float cosThetaP = 1.0f;
+    if (cosThetaO > -1.0f) {
+        float cosThetaW = w.dot(wi);
+        if (twoSided)
+            cosThetaW = std::abs(cosThetaW);
+        float cosThetaX = 1.0f, sinThetaX = 0.0f;
+        if (cosThetaW <= cosThetaO) {
+            const float sinThetaW = safeSqrt(1.0f - cosThetaW * cosThetaW);
+            cosThetaX = cosSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
+            sinThetaX = sinSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
+        }
+        cosThetaP = cosSubClamped(sinThetaX, cosThetaX, sinThetaB, cosThetaB);
+    }
     if (cosThetaP <= cosThetaE)
         return 0.0f;
     // The squared distance, kept from vanishing at points in or near the bounds (pbrt-v4
@@ -103,8 +112,10 @@ float LightImportance::operator()(const Point3f &p, const Normal3f &n) const {
     // transmission).
     if (n != Normal3f(0.0f, 0.0f, 0.0f)) {
         const float cosThetaI = std::abs(wi.dot(n));
-        const float sinThetaI = safeSqrt(1.0f - cosThetaI * cosThetaI);
-        result *= cosSubClamped(sinThetaI, cosThetaI, sinThetaB, cosThetaB);
+        if (cosThetaI <= cosThetaB) {
+            const float sinThetaI = safeSqrt(1.0f - cosThetaI * cosThetaI);
+            result *= cosSubClamped(sinThetaI, cosThetaI, sinThetaB, cosThetaB);
+        }
     }
     return std::max(result, 0.0f);
 }
