@@ -105,13 +105,16 @@ Transform cellPlacement(int i, int j, int n, float size, PCG32 &random) {
 
 const char *kSceneHead = R"(<?xml version="1.0" encoding="utf-8"?>
 <!-- A meadow of 102,400 instanced grass blades under the procedural sky, written by
-     nori-make-meadow (src/apps/make_meadow.cpp). {}
-     nori scenes/meadow/meadow.xml -->
+     nori-make-meadow (tools/make_meadow.cpp). {}
+     nori scenes/meadow/meadow.xml
+     -D lightsampler=power picks lights by power alone, not by the light tree. -->
 <scene>
     <default name="integrator" value="path_mis"/>
     <default name="spp" value="16"/>
     <default name="width" value="480"/>
     <default name="height" value="270"/>
+    <default name="lightsampler" value="bvh"/>
+    <string name="lightSampler" value="$lightsampler"/>
 
     <integrator type="$integrator"/>
     <sampler type="independent"><integer name="sampleCount" value="$spp"/></sampler>
