@@ -161,4 +161,26 @@ std::string PixelTTest::summary() const {
                        moments.variance(), reference, result.t);
 }
 
+VariantAgreement compareVariant(const AgreementScene &reference, const AgreementScene &variant,
+                                const AgreementScene &control, const AgreementSettings &settings) {
+    const auto referenceRegions =
+        estimateRegions(reference, reference.estimators.at(0), 0, settings);
+    const auto variantRegions = estimateRegions(variant, variant.estimators.at(0), 1, settings);
+    const auto controlRegions = estimateRegions(control, control.estimators.at(0), 2, settings);
+    VariantAgreement result;
+    for (size_t region = 0; region < referenceRegions.size(); ++region) {
+        result.variant.push_back(
+            compareEstimates(variantRegions.at(region), referenceRegions[region], settings));
+        result.control.push_back(
+            compareEstimates(controlRegions.at(region), referenceRegions[region], settings));
+    }
+    return result;
+}
+
+std::string VariantAgreement::summary(size_t region) const {
+    return fmt::format("variant: {} SE; control: {} SE; detectable bias (%): {}",
+                       variant.at(region).z, control.at(region).z,
+                       100 * variant.at(region).detectableBias);
+}
+
 } // namespace nori::testing

@@ -1,6 +1,8 @@
 // Helpers shared by the Catch2 tests: temporary folders, files, and running `nori`.
 #pragma once
 
+#include "testing/agreement.h"
+
 #include <nori/chisquare.h>
 #include <nori/object.h>
 #include <nori/render.h>
@@ -70,6 +72,17 @@ PixelTTest tTestPixel(Scene &scene, double reference, size_t samples);
 /// The χ² test of a sampling routine with 3·10⁵ samples over Nori's default 10 × 20
 /// histogram (150 per cell), at significance `level` (Šidák-corrected by the caller).
 ChiSquareReport chiSquare(const SamplingRoutine &routine, uint64_t seed, double level);
+
+/// A variant of a scene (another light sampling, say) against the scene it must agree
+/// with, and a control: the variant made deliberately wrong, which must not agree. Each
+/// scene is rendered by its first estimator (seeds 0, 1 and 2); one cell per region.
+struct VariantAgreement {
+    std::vector<AgreementCell> variant, control;
+    /// "variant: z SE; control: z SE; detectable bias (%): b" of one region, for INFO.
+    std::string summary(size_t region) const;
+};
+VariantAgreement compareVariant(const AgreementScene &reference, const AgreementScene &variant,
+                                const AgreementScene &control, const AgreementSettings &settings);
 
 /// Whether two images have the same size and bit-identical pixels.
 bool identicalImages(const Bitmap &a, const Bitmap &b);
