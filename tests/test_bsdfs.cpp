@@ -12,6 +12,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <complex>
+
 #include <iostream>
 
 using namespace nori;
@@ -121,6 +123,28 @@ TEST_CASE("Fresnel reflectance matches closed forms", "[bsdf][fresnel]") {
     CHECK(f.r() == Approx((0.64f + 9.0f) / (1.44f + 9.0f)).epsilon(1e-5));
     CHECK(f.g() == Approx(0.0f).margin(1e-6));
     CHECK(f.b() == Approx((0.25f + 1.0f) / (6.25f + 1.0f)).epsilon(1e-5));
+    // At every angle, the complex form of r⊥ and r∥ (PBR 4th ed. §9.3.6), for gold, a
+    // dielectric-like η with small k, and the normal-incidence case's values.
+    const auto complexForm = [](float cosThetaI, float eta, float k) {
+        using Complex = std::complex<double>;
+        const Complex etaC(eta, k);
+        const double sin2ThetaI = 1.0 - double(cosThetaI) * cosThetaI;
+        const Complex cosThetaT = std::sqrt(1.0 - sin2ThetaI / (etaC * etaC));
+        const Complex rPerp =
+            (double(cosThetaI) - etaC * cosThetaT) / (double(cosThetaI) + etaC * cosThetaT);
+        const Complex rPar =
+            (etaC * double(cosThetaI) - cosThetaT) / (etaC * double(cosThetaI) + cosThetaT);
+        return 0.5 * (std::norm(rPerp) + std::norm(rPar));
+    };
+    const Color3f etas(0.143119f, 1.5f, 0.2f), ks(3.98316f, 0.01f, 3.0f);
+    for (int step = 0; step <= 90; ++step) {
+        const float cosThetaI = std::cos(degToRad(float(step)));
+        const Color3f real = fresnelConductor(cosThetaI, etas, ks);
+        for (int c = 0; c < 3; ++c) {
+            CAPTURE(step, c);
+            CHECK(real[c] == Approx(complexForm(cosThetaI, etas[c], ks[c])).margin(1e-5));
+        }
+    }
     CHECK_THAT(errorOf([] {
                    Color3f eta, k;
                    lookupConductor("Gold", eta, k);
