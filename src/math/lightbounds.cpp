@@ -13,16 +13,6 @@ float safeAcos(float x) {
     return std::acos(std::clamp(x, -1.0f, 1.0f));
 }
 
-/// cos(max(0, a − b)) from the sines and cosines of a and b, both in [0, π].
-float cosSubClamped(float sinA, float cosA, float sinB, float cosB) {
-    return cosA > cosB ? 1.0f : cosA * cosB + sinA * sinB;
-}
-
-/// sin(max(0, a − b)) likewise.
-float sinSubClamped(float sinA, float cosA, float sinB, float cosB) {
-    return cosA > cosB ? 0.0f : sinA * cosB - cosA * sinB;
-}
-
 } // namespace
 
 DirectionCone coneUnion(const DirectionCone &a, const DirectionCone &b) {
@@ -72,53 +62,6 @@ LightImportance::LightImportance(const LightBounds &bounds)
       w(bounds.w), phi(bounds.phi), cosThetaO(bounds.cosThetaO),
       sinThetaO(safeSqrt(1.0f - bounds.cosThetaO * bounds.cosThetaO)), cosThetaE(bounds.cosThetaE),
       twoSided(bounds.twoSided) {}
-
-float LightImportance::operator()(const Point3f &p, const Normal3f &n) const {
-    const Vector3f fromCenter = p - center;
-    const float distanceSquared = fromCenter.squaredNorm();
-    const float distance = std::sqrt(distanceSquared);
-    const float invDistance = distance > 0.0f ? 1.0f / distance : 0.0f;
-    const Vector3f wi = distance > 0.0f ? Vector3f(fromCenter * invDistance) : w;
-    // θb: the half-angle the bounding sphere subtends at p (π from inside it).
-    float sinThetaB = 0.0f, cosThetaB = -1.0f;
-    if (distance > radius) {
-        sinThetaB = radius * invDistance;
-        cosThetaB = safeSqrt(1.0f - sinThetaB * sinThetaB);
-    }
-    // θ' = max(0, θw − θo − θb), with θw the angle between the axis w and the direction
-    // from the centre to p: the smallest angle between a normal and a direction from a
-    // point of the bounds to p. Beyond θe, nothing reaches p. (Each clamped difference
-    // is 0 when its first angle is the smaller, which spares the square roots of the
-    // lights that emit every way.)
-    float cosThetaP = 1.0f;
-    if (cosThetaO > -1.0f) {
-        float cosThetaW = w.dot(wi);
-        if (twoSided)
-            cosThetaW = std::abs(cosThetaW);
-        float cosThetaX = 1.0f, sinThetaX = 0.0f;
-        if (cosThetaW <= cosThetaO) {
-            const float sinThetaW = safeSqrt(1.0f - cosThetaW * cosThetaW);
-            cosThetaX = cosSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
-            sinThetaX = sinSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
-        }
-        cosThetaP = cosSubClamped(sinThetaX, cosThetaX, sinThetaB, cosThetaB);
-    }
-    if (cosThetaP <= cosThetaE)
-        return 0.0f;
-    // The squared distance, kept from vanishing at points in or near the bounds (pbrt-v4
-    // clamps it to half the box's diagonal, the sphere's radius).
-    float result = phi * cosThetaP / std::max(distanceSquared, radius);
-    // At a surface, the smallest angle of incidence max(0, θi − θb) (either side, for
-    // transmission).
-    if (n != Normal3f(0.0f, 0.0f, 0.0f)) {
-        const float cosThetaI = std::abs(wi.dot(n));
-        if (cosThetaI <= cosThetaB) {
-            const float sinThetaI = safeSqrt(1.0f - cosThetaI * cosThetaI);
-            result *= cosSubClamped(sinThetaI, cosThetaI, sinThetaB, cosThetaB);
-        }
-    }
-    return std::max(result, 0.0f);
-}
 
 float LightBounds::orientationMeasure() const {
     // ∫ over the directions within θo + θe of w of the emission's falloff (PBR 4th ed.

@@ -144,8 +144,9 @@ const Emitter *LightBVH::sample(const Point3f &p, const Normal3f &n, float &u, f
         pmf = pBeside / static_cast<float>(m_unbounded.size());
         return m_unbounded[index];
     }
-    u = std::min((u - pBeside) / pTree, kOneMinusEpsilon);
-    pmf = pTree;
+    // The walk works on copies of u and pmf (references might alias), kept in registers.
+    float walkU = std::min((u - pBeside) / pTree, kOneMinusEpsilon);
+    float walkPmf = pTree;
     uint32_t index = 0;
     while (!m_nodes[index].isLeaf) {
         const Node &node = m_nodes[index];
@@ -155,20 +156,23 @@ const Emitter *LightBVH::sample(const Point3f &p, const Normal3f &n, float &u, f
             break;
         // The same two quotients as pmf() computes.
         const float pFirst = first / (first + second), pSecond = second / (first + second);
-        if (u < pFirst) {
-            u = std::min(u / pFirst, kOneMinusEpsilon);
-            pmf *= pFirst;
+        if (walkU < pFirst) {
+            walkU = std::min(walkU / pFirst, kOneMinusEpsilon);
+            walkPmf *= pFirst;
             index = index + 1;
         } else {
-            u = std::min((u - pFirst) / pSecond, kOneMinusEpsilon);
-            pmf *= pSecond;
+            walkU = std::min((walkU - pFirst) / pSecond, kOneMinusEpsilon);
+            walkPmf *= pSecond;
             index = node.childOrLight;
         }
     }
+    u = walkU;
     const Node &node = m_nodes[index];
     // A leaf reached by choices has importance; a lone light at the root may have none.
-    if (node.isLeaf && (index > 0 || node.importance(p, n) > 0.0f))
+    if (node.isLeaf && (index > 0 || node.importance(p, n) > 0.0f)) {
+        pmf = walkPmf;
         return m_lights[node.childOrLight];
+    }
     pmf = 0.0f;
     return nullptr;
 }
