@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# nori against Blender's Cycles on the diffuse Cornell box (scenes/cbox/cbox.xml with
+# -D sphere=diffuse; scripts/cycles_cornell.py builds the same box in Blender), both on
+# THREADS threads with a box filter, no denoising, no clamping, SPP samples per pixel.
+# For each configuration: the render time (median and range over ROUNDS seeds), the MSE
+# against the renderer's own converged render (REFERENCE_SPP, mean ± standard error), and
+# the Monte Carlo efficiency 1/(time × MSE) relative to Cycles'. nori's configurations
+# add one change at a time to Nori 2's way (independent sampler, light sampled by area,
+# lights chosen by power), so that each change's share shows; the last is the default.
+# Last, the two references against each other (the same box: their means per channel and
+# the MSE between them, which holds what differs between the two scenes, e.g. the
+# spheres' facets).
+#   scripts/bench_cycles.sh [BUILD_DIR] [SPP] [REFERENCE_SPP] [ROUNDS] [SIZE] [THREADS]
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+build="${1:-$here/build}"
+spp="${2:-64}"
+reference_spp="${3:-2048}"
+rounds="${4:-3}"
+size="${5:-512}"
+threads="${6:-2}"
+blender="${BLENDER:-blender}"
+out="$(mktemp -d)"
+trap 'rm -rf "$out"' EXIT
+
+nori() { # output name, then -D definitions; prints the render time in seconds
+    local name="$1"; shift
+    "$build/nori" --no-progress --threads "$threads" -D size="$size" -D sphere=diffuse \
+        -D filter=box "$@" "$here/scenes/cbox/cbox.xml" -o "$out/$name.exr" 2>&1 |
+        awk '/^Done in / { # "Done in 840 ms (", "11.2 s (", "6 min 43 s (", "1 h 02 min ("
+                 n = split(substr($0, 9, index($0, " (") - 9), f, " "); t = 0
+                 for (i = 1; i < n; i += 2) {
+                     unit = f[i + 1] == "ms" ? 0.001 : f[i + 1] == "s" ? 1 : f[i + 1] == "min" ? 60 : 3600
+                     t += f[i] * unit
+                 }
+                 print t }'
+}
+cycles() { # output name, samples, seed; prints the render time in seconds
+    "$blender" -b --factory-startup --python "$here/scripts/cycles_cornell.py" -- \
+        "$here/scenes/cbox/meshes" "$out/$1.exr" "$2" "$3" "$threads" "$size" 2>&1 |
+        sed -nE 's/^render seconds: ([0-9.]+)/\1/p'
+}
+mse() { # image, reference; prints the MSE
+    "$build/nori-imgtool" diff "$1" "$2" | awk '$1 == "rmse" { print $2 * $2 }'
+}
+# summarize "TIMES" "ERRORS" [BASELINE]: median time, range, mean ± s.e. of the MSE, the
+# efficiency, its ratio to BASELINE, and the efficiency again (for the caller to keep).
+summarize() {
+    echo "$1 | $2" | awk -v baseline="${3:-}" '
+        {
+            n = 0; m = 0
+            for (i = 1; $i != "|"; ++i) t[++n] = $i
+            for (i = i + 1; i <= NF; ++i) e[++m] = $i
+            for (i = 2; i <= n; ++i) # insertion sort (POSIX awk has no asort)
+                for (j = i; j > 1 && t[j - 1] > t[j]; --j) { x = t[j]; t[j] = t[j - 1]; t[j - 1] = x }
+            median = (n % 2) ? t[(n + 1) / 2] : (t[n / 2] + t[n / 2 + 1]) / 2
+            mean = 0; for (i = 1; i <= m; ++i) mean += e[i]; mean /= m
+            var = 0; for (i = 1; i <= m; ++i) var += (e[i] - mean) ^ 2
+            se = (m > 1) ? sqrt(var / (m - 1) / m) : 0
+            efficiency = 1 / (median * mean)
+            relative = (baseline == "") ? 1 : efficiency / baseline
+            printf "%9.2f %6.2f-%-6.2f %11.4e ± %8.2e %10.4g %8.2fx %s\n", median, t[1], t[n],
+                mean, se, efficiency, relative, efficiency
+        }'
+}
+
+echo "== Diffuse Cornell box, ${size}x$size, $spp spp, $threads threads, $rounds rounds;" \
+     "references $reference_spp spp"
+echo "references: Cycles $(cycles cycles-reference "$reference_spp" 9999) s," \
+     "nori $(nori nori-reference -D sampler=sobol -D spp="$reference_spp" -D seed=9999) s"
+printf '%-40s %22s %24s %10s %9s\n' "renderer, configuration" "time (s) median, range" \
+    "MSE mean ± s.e." "efficiency" "to Cycles"
+
+times="" errors=""
+for round in $(seq 1 "$rounds"); do
+    times+="$(cycles run "$spp" "$round") "
+    errors+="$(mse "$out/run.exr" "$out/cycles-reference.exr") "
+done
+line="$(summarize "$times" "$errors")"
+cycles_efficiency="${line##* }"
+printf '%-40s %s\n' "Cycles $("$blender" -v 2>/dev/null | sed -n "1s/Blender //p"), 64 bounces" \
+    "${line% *}"
+
+configurations=(
+    "independent, area, power|-D sampler=independent -D lightsampling=area -D lightsampler=power"
+    "+ sobol|-D sampler=sobol -D lightsampling=area -D lightsampler=power"
+    "+ solid angle|-D sampler=sobol -D lightsampling=solidangle -D lightsampler=power"
+    "+ light tree (the defaults)|-D sampler=sobol -D lightsampling=solidangle -D lightsampler=bvh"
+)
+for configuration in "${configurations[@]}"; do
+    label="${configuration%%|*}"
+    read -r -a definitions <<< "${configuration#*|}"
+    times="" errors=""
+    for round in $(seq 1 "$rounds"); do
+        times+="$(nori run "${definitions[@]}" -D spp="$spp" -D seed="$round") "
+        errors+="$(mse "$out/run.exr" "$out/nori-reference.exr") "
+    done
+    line="$(summarize "$times" "$errors" "$cycles_efficiency")"
+    printf '%-40s %s\n' "nori, $label" "${line% *}"
+done
+
+echo
+echo "The references against each other (nori's against Cycles'):"
+"$build/nori-imgtool" diff "$out/nori-reference.exr" "$out/cycles-reference.exr"
+for image in nori-reference cycles-reference; do
+    echo "$image mean: $("$build/nori-imgtool" info "$out/$image.exr" |
+        sed -n 's/^mean //p')"
+done
