@@ -43,25 +43,9 @@ cycles() { # output name, samples, seed; prints the render time in seconds
 mse() { # image, reference; prints the MSE
     "$build/nori-imgtool" diff "$1" "$2" | awk '$1 == "rmse" { print $2 * $2 }'
 }
-# summarize "TIMES" "ERRORS" [BASELINE]: median time, range, mean ± s.e. of the MSE, the
-# efficiency, its ratio to BASELINE, and the efficiency again (for the caller to keep).
+# summarize "TIMES" "ERRORS" [BASELINE]: scripts/bench_summary.awk's line.
 summarize() {
-    echo "$1 | $2" | awk -v baseline="${3:-}" '
-        {
-            n = 0; m = 0
-            for (i = 1; $i != "|"; ++i) t[++n] = $i
-            for (i = i + 1; i <= NF; ++i) e[++m] = $i
-            for (i = 2; i <= n; ++i) # insertion sort (POSIX awk has no asort)
-                for (j = i; j > 1 && t[j - 1] > t[j]; --j) { x = t[j]; t[j] = t[j - 1]; t[j - 1] = x }
-            median = (n % 2) ? t[(n + 1) / 2] : (t[n / 2] + t[n / 2 + 1]) / 2
-            mean = 0; for (i = 1; i <= m; ++i) mean += e[i]; mean /= m
-            var = 0; for (i = 1; i <= m; ++i) var += (e[i] - mean) ^ 2
-            se = (m > 1) ? sqrt(var / (m - 1) / m) : 0
-            efficiency = 1 / (median * mean)
-            relative = (baseline == "") ? 1 : efficiency / baseline
-            printf "%9.2f %6.2f-%-6.2f %11.4e ± %8.2e %10.4g %8.2fx %s\n", median, t[1], t[n],
-                mean, se, efficiency, relative, efficiency
-        }'
+    echo "$1 | $2" | awk -v baseline="${3:-}" -f "$here/scripts/bench_summary.awk"
 }
 
 echo "== Diffuse Cornell box, ${size}x$size, $spp spp, $threads threads, $rounds rounds;" \

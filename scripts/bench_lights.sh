@@ -57,22 +57,8 @@ bench_scene() {
                 errors+="$(error "$out/run.exr") "
             done
             local line
-            line=$(echo "$times" "|" "$errors" | awk -v baseline="$baseline" '
-                {
-                    n = 0; m = 0
-                    for (i = 1; $i != "|"; ++i) t[++n] = $i
-                    for (i = i + 1; i <= NF; ++i) e[++m] = $i
-                    for (i = 2; i <= n; ++i) # insertion sort (POSIX awk has no asort)
-                        for (j = i; j > 1 && t[j - 1] > t[j]; --j) { x = t[j]; t[j] = t[j - 1]; t[j - 1] = x }
-                    median = (n % 2) ? t[(n + 1) / 2] : (t[n / 2] + t[n / 2 + 1]) / 2
-                    mean = 0; for (i = 1; i <= m; ++i) mean += e[i]; mean /= m
-                    var = 0; for (i = 1; i <= m; ++i) var += (e[i] - mean) ^ 2
-                    se = (m > 1) ? sqrt(var / (m - 1) / m) : 0
-                    efficiency = 1 / (median * mean)
-                    relative = (baseline == "") ? 1 : efficiency / baseline
-                    printf "%10.2f %5.2f-%-5.2f %12.4e ± %8.2e %12.4g %8.2fx %s\n", median, t[1],
-                        t[n], mean, se, efficiency, relative, efficiency
-                }')
+            line=$(echo "$times" "|" "$errors" |
+                awk -v baseline="$baseline" -f "$here/scripts/bench_summary.awk")
             [ -z "$baseline" ] && baseline="${line##* }"
             printf '%-24s %s\n' "$sampler, $value" "${line% *}"
         done
