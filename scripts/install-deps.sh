@@ -8,6 +8,7 @@ set -euo pipefail
 
 packages=(
     build-essential cmake   # compiler and build system
+    ninja-build             # the build tool: recompiles a file only when its command changes
     libeigen3-dev           # vectors, matrices, colours
     libpugixml-dev          # XML scene files
     libstb-dev              # PNG writing
