@@ -21,15 +21,19 @@ done
 
 # -O1 as libFuzzer's documentation advises; line tables only, which is all the sanitizers'
 # stack traces need and builds faster than full debug information; assertions on (no NDEBUG).
-cmake -S "$here" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
+# Only the fuzz targets are built, and they link only the areas they read with
+# (tests/fuzz/CMakeLists.txt): neither the app area nor the denoiser is compiled.
+generator=()
+command -v ninja > /dev/null && generator=(-G Ninja)
+cmake -S "$here" -B "$build" "${generator[@]}" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
     -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DNORI_FUZZ=ON -DNORI_BUILD_TESTS=OFF -DNORI_PCH=ON \
     > "$build.configure.log" 2>&1 ||
     { cat "$build.configure.log"; exit 1; }
 cmake --build "$build" -j"$(nproc)" --target $(printf 'nori-fuzz-%s ' "${targets[@]}")
 
-mkdir -p "$build/artifacts"
-status=0
-for target in "${targets[@]}"; do
+# Fuzzes one target for $seconds s; its report goes to $build/fuzz-TARGET.summary.
+fuzz_one() {
+    local target="$1" seeds max_len corpus summary="$build/fuzz-$1.summary"
     case "$target" in
     xml) seeds=("$here/tests/badinput" "$here/scenes/tests" "$here/tests/fuzz/corpus/xml") ;;
     obj) seeds=("$here/tests/fuzz/corpus/obj" "$here/tests/badinput" "$here/scenes/cbox/meshes") ;;
@@ -43,16 +47,40 @@ for target in "${targets[@]}"; do
     [ "$target" = volume ] && max_len=1048576
     corpus="$build/corpus-$target"
     mkdir -p "$corpus"
-    echo "== fuzzing the $target reader for $seconds s"
+    echo "== fuzzed the $target reader for $seconds s" > "$summary"
     # -rss_limit_mb: a single input may not use more than 2 GiB; -timeout: nor take 10 s.
-    if ! "$build/nori-fuzz-$target" "$corpus" "${seeds[@]}" -dict="$here/tests/fuzz/$target.dict" \
+    local status=0
+    "$build/nori-fuzz-$target" "$corpus" "${seeds[@]}" -dict="$here/tests/fuzz/$target.dict" \
         -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len="$max_len" \
         -artifact_prefix="$build/artifacts/$target-" -print_final_stats=1 \
-        > "$build/fuzz-$target.log" 2>&1; then
-        status=1
-        echo "the $target target failed; its report:"
-        tail -n 60 "$build/fuzz-$target.log"
+        > "$build/fuzz-$target.log" 2>&1 || status=1
+    if ((status)); then
+        echo "the $target target failed; its report:" >> "$summary"
+        tail -n 60 "$build/fuzz-$target.log" >> "$summary"
     fi
-    grep -E "^Done|stat::number_of_executed_units|stat::peak_rss_mb|cov:" "$build/fuzz-$target.log" | tail -n 4
+    grep -E "^Done|stat::number_of_executed_units|stat::peak_rss_mb|cov:" "$build/fuzz-$target.log" |
+        tail -n 4 >> "$summary"
+    return $status
+}
+
+# One target per core at a time (each libFuzzer process is single-threaded).
+mkdir -p "$build/artifacts"
+status=0
+running=0
+for target in "${targets[@]}"; do
+    if ((running >= $(nproc))); then
+        wait -n || status=1
+        running=$((running - 1))
+    fi
+    echo "== fuzzing the $target reader for $seconds s"
+    fuzz_one "$target" &
+    running=$((running + 1))
+done
+while ((running > 0)); do
+    wait -n || status=1
+    running=$((running - 1))
+done
+for target in "${targets[@]}"; do
+    cat "$build/fuzz-$target.summary"
 done
 exit $status

@@ -22,8 +22,9 @@ from pathlib import Path
 
 BLOCK = re.compile(r"(?P<before>[^\n]*)\n```(?P<lang>\w*)\n(?P<body>.*?)```", re.S)
 NOT_RUN = re.compile(r"<!-- not run: .+ -->")
-# A command may take this long; the slowest renders the Cornell box at 64 spp.
-TIMEOUT_SECONDS = 300
+# A command may take this long; the slowest renders the Cornell box at 64 spp. The
+# sanitizer build, several times slower, scales it (NORI_TIMEOUT_FACTOR, set by ctest).
+TIMEOUT_SECONDS = 300 * int(os.environ.get("NORI_TIMEOUT_FACTOR", "1"))
 
 
 def documents(root):

@@ -4,14 +4,18 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <unistd.h>
 
 namespace {
 
-/// A file of this process, rewritten for every input.
+/// A file of this process, rewritten for every input and removed when the process exits.
 const std::string &scratchFile() {
-    static const std::string path = "/tmp/nori-fuzz-obj-" + std::to_string(getpid()) + ".obj";
+    static const std::string path = [] {
+        std::atexit([] { std::remove(scratchFile().c_str()); });
+        return "/tmp/nori-fuzz-obj-" + std::to_string(getpid()) + ".obj";
+    }();
     return path;
 }
 
