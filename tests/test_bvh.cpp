@@ -9,6 +9,8 @@
 #include <catch2/catch.hpp>
 
 using namespace nori;
+using nori::testing::randomDirection;
+using nori::testing::randomPoint;
 
 namespace {
 
@@ -63,18 +65,6 @@ Accel buildAccel(const std::vector<std::shared_ptr<Shape>> &shapes) {
         accel.addShape(shape.get());
     accel.build();
     return accel;
-}
-
-Point3f randomPoint(PCG32 &random, float scale) {
-    return Point3f(scale * (2.0f * random.nextFloat() - 1.0f),
-                   scale * (2.0f * random.nextFloat() - 1.0f),
-                   scale * (2.0f * random.nextFloat() - 1.0f));
-}
-
-Vector3f randomDirection(PCG32 &random) {
-    const float z = 1.0f - 2.0f * random.nextFloat(), phi = 2.0f * kPi * random.nextFloat();
-    const float r = safeSqrt(1.0f - z * z);
-    return Vector3f(r * std::cos(phi), r * std::sin(phi), z);
 }
 
 /// A (rows x columns) grid of unit quads in the plane z = 0, two triangles each.

@@ -151,7 +151,7 @@ struct Reference {
 };
 
 /// A direction uniform on the upper hemisphere.
-Vector3f randomDirection(PCG32 &random) {
+Vector3f randomHemisphereDirection(PCG32 &random) {
     const float u = random.nextFloat();
     return Warp::squareToUniformHemisphere(Point2f(u, random.nextFloat()));
 }
@@ -175,7 +175,8 @@ double largestDifferenceFromReference(bool plantSlip) {
         reference.slip = plantSlip;
         auto bsdf = disney(p, base);
         for (int pair = 0; pair < 50; ++pair) {
-            const Vector3f wi = randomDirection(random), wo = randomDirection(random);
+            const Vector3f wi = randomHemisphereDirection(random),
+                           wo = randomHemisphereDirection(random);
             const auto lobes = reference.lobes(wo.cast<double>(), wi.cast<double>());
             const Color3f f = bsdf->eval(BSDFQueryRecord(wi, wo, ESolidAngle));
             for (int c = 0; c < 3; ++c) {
@@ -357,7 +358,8 @@ TEST_CASE("Disney's pdf is the mixture of its lobes by Burley's weights", "[disn
     };
     PCG32 random(31, 32);
     for (int i = 0; i < 1000; ++i) {
-        const BSDFQueryRecord bRec(randomDirection(random), randomDirection(random), ESolidAngle);
+        const BSDFQueryRecord bRec(randomHemisphereDirection(random),
+                                   randomHemisphereDirection(random), ESolidAngle);
         INFO("wi " << bRec.wi.transpose() << ", wo " << bRec.wo.transpose());
         CHECK(whole->pdf(bRec) == Approx(mixture(weights, bRec)).epsilon(1e-5));
     }
@@ -380,7 +382,8 @@ TEST_CASE("Every Disney lobe is reciprocal", "[disney]") {
         PCG32 random(41, 42);
         double largest = 0.0;
         for (int i = 0; i < 20000; ++i) {
-            const Vector3f a = randomDirection(random), b = randomDirection(random);
+            const Vector3f a = randomHemisphereDirection(random),
+                           b = randomHemisphereDirection(random);
             const Color3f ab = f(a, b), ba = f(b, a);
             largest = std::max(largest, static_cast<double>((ab - ba).abs().maxCoeff() /
                                                             (ab.abs().maxCoeff() + 1e-4f)));

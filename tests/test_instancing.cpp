@@ -18,6 +18,7 @@ using namespace nori;
 using Catch::Contains;
 using nori::testing::errorOf;
 using nori::testing::loadScene;
+using nori::testing::randomDirection;
 using nori::testing::TempDir;
 
 namespace {
@@ -78,10 +79,6 @@ std::pair<std::string, std::string> patchScenes(int count, uint64_t seed) {
         instanced += R"(<mesh type="instance"><ref id="patch"/>)" + placement.xml + "</mesh>\n";
     }
     return {separate + "</scene>", instanced + "</scene>"};
-}
-
-Vector3f randomDirection(PCG32 &random) {
-    return Warp::squareToUniformSphere(Point2f(random.nextFloat(), random.nextFloat()));
 }
 
 /// A scene of one instance, placed by `transformXml`, of a group holding the unit sphere

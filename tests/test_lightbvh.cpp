@@ -40,16 +40,6 @@ private:
     float m_power;
 };
 
-Vector3f randomDirection(PCG32 &rng) {
-    return Warp::squareToUniformSphere(Point2f(rng.nextFloat(), rng.nextFloat()));
-}
-
-Point3f randomPoint(PCG32 &rng, float extent) {
-    return Point3f((2.0f * rng.nextFloat() - 1.0f) * extent,
-                   (2.0f * rng.nextFloat() - 1.0f) * extent,
-                   (2.0f * rng.nextFloat() - 1.0f) * extent);
-}
-
 /// A one-sided triangle light: its box, its normal (θo = 0), emission up to 90°.
 struct TriangleLight {
     Point3f p0, p1, p2;

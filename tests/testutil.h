@@ -5,9 +5,11 @@
 
 #include <nori/chisquare.h>
 #include <nori/object.h>
+#include <nori/pcg32.h>
 #include <nori/render.h>
 #include <nori/scene.h>
 #include <nori/statistics.h>
+#include <nori/warp.h>
 
 #include <filesystem>
 #include <string>
@@ -93,6 +95,17 @@ inline Vector3f incidentDirection(float degrees, float azimuth = 0.0f) {
     const float theta = degToRad(degrees);
     return Vector3f(std::sin(theta) * std::cos(azimuth), std::sin(theta) * std::sin(azimuth),
                     std::cos(theta));
+}
+
+/// A direction drawn uniformly on the unit sphere.
+inline Vector3f randomDirection(PCG32 &random) {
+    return Warp::squareToUniformSphere(Point2f(random.nextFloat(), random.nextFloat()));
+}
+
+/// A point drawn uniformly in the cube [-halfSide, halfSide]^3.
+inline Point3f randomPoint(PCG32 &random, float halfSide) {
+    const float x = 2.0f * random.nextFloat() - 1.0f, y = 2.0f * random.nextFloat() - 1.0f;
+    return halfSide * Point3f(x, y, 2.0f * random.nextFloat() - 1.0f);
 }
 
 /// The distance from point p to the line of the ray.
