@@ -23,8 +23,11 @@ done
 # stack traces need and builds faster than full debug information; assertions on (no NDEBUG).
 # Only the fuzz targets are built, and they link only the areas they read with
 # (tests/fuzz/CMakeLists.txt): neither the app area nor the denoiser is compiled.
+# Ninja for a new build directory; an existing one keeps the generator it was made with.
 generator=()
-command -v ninja > /dev/null && generator=(-G Ninja)
+if [ ! -f "$build/CMakeCache.txt" ] && command -v ninja > /dev/null; then
+    generator=(-G Ninja)
+fi
 cmake -S "$here" -B "$build" "${generator[@]}" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
     -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DNORI_FUZZ=ON -DNORI_BUILD_TESTS=OFF -DNORI_PCH=ON \
     > "$build.configure.log" 2>&1 ||
