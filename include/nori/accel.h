@@ -40,7 +40,7 @@ public:
     /// Places the target's geometry in this Accel's space by `toWorld` (affine). The
     /// target (and its Accel, built) must outlive this one. Throws when the nesting
     /// would exceed kMaxInstanceDepth.
-    void addInstance(const InstanceTarget *target, const Transform &toWorld);
+    void addInstance(const InstanceTarget *target, const AffineMap &toWorld);
     /// Builds the BVHs once all shapes and instances are added. Primitives with
     /// non-finite bounds are left out, and a warning says how many.
     void build();

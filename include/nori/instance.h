@@ -29,12 +29,15 @@ public:
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override;
     void activate() override;
     const std::shared_ptr<ShapeGroup> &group() const { return m_group; }
-    const Transform &toWorld() const { return m_toWorld; }
+    const AffineMap &toWorld() const { return m_toWorld; }
     std::string toString() const override;
     EClassType getClassType() const override { return kClassType; }
 
 private:
-    Transform m_toWorld;
+    // Every instance of a scene exists at once while the scene is read (its children are
+    // made before it): an affine map (48 B) rather than a Transform (two 4×4 matrices, 64-byte
+    // aligned with AVX-512) keeps each at 176 bytes instead of 320.
+    AffineMap m_toWorld;
     std::shared_ptr<ShapeGroup> m_group;
 };
 

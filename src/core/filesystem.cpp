@@ -2,6 +2,7 @@
 #include <nori/filesystem.h>
 #include <nori/hash.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -72,11 +73,17 @@ std::string readBinaryFile(const std::string &path, const std::string &what) {
     std::ifstream stream(path, std::ios::binary);
     if (!stream)
         throw NoriException("cannot open {} '{}': {}", what, path, std::strerror(errno));
-    std::ostringstream buffer;
-    buffer << stream.rdbuf();
-    if (stream.bad())
+    // Read into a string of the file's size: no growing buffer and copy, whose freed
+    // blocks would also raise glibc's threshold for mapping large blocks and so leave the
+    // big allocations that follow (a large scene's records) in the heap for good.
+    stream.seekg(0, std::ios::end);
+    const std::streamoff size = stream.tellg();
+    stream.seekg(0, std::ios::beg);
+    std::string bytes(static_cast<size_t>(std::max<std::streamoff>(size, 0)), '\0');
+    stream.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (stream.bad() || size < 0)
         throw NoriException("cannot read {} '{}': read error", what, path);
-    std::string bytes = buffer.str();
+    bytes.resize(static_cast<size_t>(stream.gcount())); // shorter if it shrank meanwhile
     recordFileRead(bytes);
     return bytes;
 }

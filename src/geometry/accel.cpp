@@ -30,7 +30,7 @@ void Accel::addShape(const Shape *shape) {
     m_isMesh.push_back(dynamic_cast<const Mesh *>(shape) != nullptr);
 }
 
-void Accel::addInstance(const InstanceTarget *target, const Transform &toWorld) {
+void Accel::addInstance(const InstanceTarget *target, const AffineMap &toWorld) {
     const int depth = target->accel->instanceDepth() + 1;
     if (depth > kMaxInstanceDepth)
         throw NoriException("instances nest {} levels deep; at most {} are supported", depth,
@@ -39,9 +39,9 @@ void Accel::addInstance(const InstanceTarget *target, const Transform &toWorld) 
     auto [it, inserted] = m_targetIndex.emplace(target, static_cast<uint32_t>(m_targets.size()));
     if (inserted)
         m_targets.push_back(target);
-    const AffineMap map = AffineMap::of(toWorld.getMatrix());
-    m_instances.push_back({map.inverse(), it->second, static_cast<uint32_t>(m_instances.size())});
-    m_instanceBounds.push_back(transformedBounds(target->accel->getBoundingBox(), map));
+    m_instances.push_back(
+        {toWorld.inverse(), it->second, static_cast<uint32_t>(m_instances.size())});
+    m_instanceBounds.push_back(transformedBounds(target->accel->getBoundingBox(), toWorld));
 }
 
 void Accel::build() {

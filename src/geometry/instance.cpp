@@ -44,9 +44,8 @@ private:
 
 } // namespace
 
-Instance::Instance(const PropertyList &props) : m_toWorld(props.getTransform("toWorld", {})) {
-    AffineMap::of(m_toWorld.getMatrix()); // checks that it is affine
-}
+Instance::Instance(const PropertyList &props)
+    : m_toWorld(AffineMap::of(props.getTransform("toWorld", {}).getMatrix())) {}
 
 void Instance::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
     (void)name;
@@ -66,7 +65,9 @@ void Instance::activate() {
 }
 
 std::string Instance::toString() const {
-    return fmt::format("Instance[toWorld = {}]", m_toWorld.toString());
+    Eigen::Matrix4f matrix = Eigen::Matrix4f::Identity();
+    matrix.topRows<3>() = m_toWorld.matrix();
+    return fmt::format("Instance[toWorld = {}]", Transform(matrix).toString());
 }
 
 TMesh::TMesh(const PropertyList &props) : m_toWorld(props.getTransform("toWorld", {})) {
@@ -114,7 +115,7 @@ void TMeshSet::placeInto(Accel &accel) {
     for (const auto &[bsdf, toWorld] : m_copies) {
         auto view = bsdf ? m_targetOfBSDF.find(bsdf.get()) : m_targetOfBSDF.end();
         accel.addInstance(view != m_targetOfBSDF.end() ? view->second : m_targets.front().get(),
-                          toWorld);
+                          AffineMap::of(toWorld.getMatrix()));
     }
     decltype(m_copies)().swap(m_copies); // frees it (`= {}` would keep the capacity)
 }
