@@ -149,6 +149,7 @@ TEST_CASE("BVH matches brute force on several meshes and spheres together", "[bv
         makeGrid(3, 5, Transform::rotate(Vector3f(1, 0, 0), 90.0f))};
     PCG32 random(3, 4);
     std::vector<Ray3f> rays;
+    rays.reserve(3000);
     for (int i = 0; i < 3000; ++i)
         rays.emplace_back(randomPoint(random, 6.0f), randomDirection(random), 0.0f, kInfinity);
     CHECK(compareOnRays(shapes, rays) > 300);
@@ -186,6 +187,7 @@ TEST_CASE("BVH matches brute force on degenerate configurations", "[bvh]") {
                 6, 6,
                 Transform::scale(Vector3f(scale)) * Transform::rotate(Vector3f(1, 1, 0), 30.0f))};
             std::vector<Ray3f> rays;
+            rays.reserve(2000);
             for (int i = 0; i < 2000; ++i)
                 rays.emplace_back(randomPoint(random, 10.0f * scale), randomDirection(random), 0.0f,
                                   kInfinity);
@@ -366,7 +368,7 @@ template <int Width> void checkWideTree(const std::vector<BoundingBox3f> &boxes)
     for (const uint32_t alignment : {1u, 4u}) {
         BVH<Width> bvh;
         bvh.build(boxes, BVHBase::kIntersectionCost, alignment);
-        CHECK(sizeof(Node) == 32 * Width);
+        CHECK(sizeof(Node) == size_t{32} * Width);
         CHECK(reinterpret_cast<uintptr_t>(&bvh.node(0)) % 64 == 0);
         CHECK(bvh.statistics().primitives == 25000);
         CHECK(bvh.statistics().maxDepth < BVHBase::kMaxDepth);

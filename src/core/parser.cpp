@@ -226,8 +226,8 @@ constexpr int kMaxNestingDepth = 128;
 /// they would add to the objects' memory (200,000 instances: 110 MB of document).
 namespace xmlmemory {
 
-constexpr size_t kHeader = 16;            ///< the block's size, keeping 16-byte alignment
-constexpr size_t kMappedSize = 16 * 1024; ///< blocks this large or larger are mapped
+constexpr size_t kHeader = 16;                    ///< the block's size, keeping 16-byte alignment
+constexpr size_t kMappedSize = size_t{16} * 1024; ///< blocks this large or larger are mapped
 
 void *allocate(size_t size) {
     const size_t total = size + kHeader;
