@@ -36,9 +36,16 @@ stop_daemons() {
     ((status == 0)) || show_logs
     scontrol shutdown >/dev/null 2>&1 || true
     munged --stop --socket="$scratch/munge/munge.socket" >/dev/null 2>&1 || true
-    sleep 1
+    # Each daemon gets up to 5 s to exit on its own (polled, not slept), then is killed.
+    local pidfile pid i
     for pidfile in "$scratch"/slurmctld.pid "$scratch"/slurmd.pid "$scratch"/munge/munged.pid; do
-        [ -f "$pidfile" ] && kill -9 "$(cat "$pidfile")" 2>/dev/null || true
+        [ -f "$pidfile" ] || continue
+        pid=$(cat "$pidfile")
+        for ((i = 0; i < 50; ++i)); do
+            kill -0 "$pid" 2>/dev/null || break
+            sleep 0.1
+        done
+        kill -9 "$pid" 2>/dev/null || true
     done
     exit $status
 }
@@ -99,10 +106,10 @@ PartitionName=test Nodes=ALL Default=YES MaxTime=INFINITE State=UP
 CONF
 slurmctld -f "$SLURM_CONF" || fail "slurmctld did not start"
 slurmd -f "$SLURM_CONF" -N "$host" || fail "slurmd did not start"
-for ((i = 0; i < 60; ++i)); do
+for ((i = 0; i < 300; ++i)); do
     state=$(sinfo -h -o %T 2>/dev/null || true)
     [ "$state" = idle ] && break
-    sleep 0.5
+    sleep 0.1
 done
 [ "$state" = idle ] || fail "the node is not idle after 30 s (state '$state')"
 echo "cluster up: slurmctld on port $ctld_port, slurmd on $slurmd_port, node $host"
@@ -110,10 +117,10 @@ echo "cluster up: slurmctld on port $ctld_port, slurmd on $slurmd_port, node $ho
 # Waits up to 120 s until none of the jobs (a comma-separated list) is queued or running.
 wait_for_jobs() {
     local queued
-    for ((i = 0; i < 240; ++i)); do
+    for ((i = 0; i < 1200; ++i)); do
         queued=$(squeue -h -o %i -j "$1" 2>&1) || fail "squeue failed: $queued"
         [ -z "$queued" ] && return
-        sleep 0.5
+        sleep 0.1
     done
     fail "jobs $1 still queued after 120 s: $queued"
 }
@@ -158,4 +165,4 @@ submitted=$(bash "$source_dir/scripts/slurm/render.sh" "$scene" --parts 4 --spp 
 merge=$(echo "$submitted" | sed -n 's/^merge-job //p')
 wait_for_jobs "$merge"
 cmp "$out.exr" "$scratch/render/local.exr" || fail "the merge after resubmitting part 3 differs"
-sleep 1; echo "PASS: the Slurm job array's merged render equals the single and the local render"
+echo "PASS: the Slurm job array's merged render equals the single and the local render"
