@@ -32,17 +32,10 @@ public:
     Bitmap toBitmap() const;
 
 private:
-    static constexpr int kFilterResolution = 32;
-
-    /// The filter's weight at `distance` pixels along one axis (from the table).
-    float weightAt(float distance) const;
-
     Point2i m_offset{0, 0};
     Vector2i m_size;
     int m_borderSize = 0;
-    float m_filterRadius = 0.5f;
-    float m_lookupFactor = 0.0f;
-    float m_filterTable[kFilterResolution + 1];
+    FilterTable m_filter;
 };
 
 } // namespace nori

@@ -16,6 +16,7 @@ class BSDF;
 class Emitter;
 class PropertyList;
 class Scene;
+struct BSDFQueryRecord;
 struct EmitterQueryRecord;
 struct Intersection;
 
@@ -51,6 +52,16 @@ Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSD
 /// shading normal `refNormal`, zero in a medium) chose the ray.
 Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const EmitterQueryRecord &lRec,
                         const Normal3f &refNormal, bool specularBounce, float scatterPdf);
+
+/// Paths traced from the lights (photons, light tracing) carry flux, not radiance. A BSDF
+/// sample's weight (BSDF::sample: f·|cos θo|/pdf, radiance arriving along wo and leaving
+/// along wi) times this factor is the weight of flux arriving along wi and leaving along
+/// wo (world directions at `its`; bRec as sample() left it): flux is not scaled by 1/η²
+/// across a refraction as radiance is (Veach 1997, §5.2), and shading normals make the
+/// adjoint BSDF differ by |wi·ns||wo·ng|/(|wi·ng||wo·ns|) (Veach 1997, §5.3; PBR 3rd ed.
+/// §16.1.3). Zero where a direction grazes the geometric or shading surface.
+float adjointSampleFactor(const Intersection &its, const Vector3f &wi, const Vector3f &wo,
+                          const BSDFQueryRecord &bRec);
 
 /// How long a path may grow: `maxDepth` scattering events after the camera ray (−1: no
 /// limit) and Russian roulette from event `rrDepth` on.

@@ -5,6 +5,9 @@
 #include <nori/object.h>
 #include <nori/vector.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <vector>
 
 namespace nori {
@@ -27,6 +30,33 @@ protected:
     static float checkedRadius(float radius, const char *filterName);
 
     float m_radius = 0.5f;
+};
+
+/// A filter as the film reconstructs with it: tabulated in kResolution steps of
+/// radius/kResolution (the value at each step's start), zero beyond the radius.
+class FilterTable {
+public:
+    static constexpr int kResolution = 32;
+
+    /// `filter` nullptr: the box of radius 1/2.
+    explicit FilterTable(const ReconstructionFilter *filter);
+    float radius() const { return m_radius; }
+    /// The weight at `distance` pixels from a pixel centre along one axis.
+    float weight(float distance) const {
+        const int step =
+            std::min(static_cast<int>(std::abs(distance) * m_lookupFactor), kResolution);
+        return m_values[static_cast<size_t>(step)];
+    }
+    /// ∫ weight(t) dt over [a, b] ∩ [−radius, radius], exactly: the table is a step function.
+    float integral(float a, float b) const;
+
+private:
+    /// ∫ weight over [0, min(t, radius)], t ≥ 0.
+    float halfIntegral(float t) const;
+
+    float m_radius = 0.5f;
+    float m_lookupFactor = 0.0f;
+    std::array<float, kResolution + 1> m_values{};
 };
 
 /// Filter importance sampling (Ernst et al. 2006, "Filter Importance Sampling"): film

@@ -2,25 +2,10 @@
 
 namespace nori {
 
-float ImageBlock::weightAt(float distance) const {
-    const int index =
-        std::min(static_cast<int>(std::abs(distance) * m_lookupFactor), kFilterResolution);
-    return m_filterTable[index];
-}
-
-ImageBlock::ImageBlock(const Vector2i &size, const ReconstructionFilter *filter) : m_size(size) {
-    if (filter) {
-        m_filterRadius = filter->getRadius();
-        // Samples up to `radius` away from a pixel centre contribute to it.
-        m_borderSize = static_cast<int>(std::ceil(m_filterRadius - 0.5f));
-        for (int i = 0; i <= kFilterResolution; ++i)
-            m_filterTable[i] = filter->eval(m_filterRadius * i / kFilterResolution);
-        m_filterTable[kFilterResolution] = 0.0f;
-    } else {
-        for (float &weight : m_filterTable)
-            weight = 1.0f;
-    }
-    m_lookupFactor = kFilterResolution / m_filterRadius;
+ImageBlock::ImageBlock(const Vector2i &size, const ReconstructionFilter *filter)
+    : m_size(size), m_filter(filter) {
+    // Samples up to `radius` away from a pixel centre contribute to it.
+    m_borderSize = static_cast<int>(std::ceil(m_filter.radius() - 0.5f));
     resize(size.y() + 2 * m_borderSize, size.x() + 2 * m_borderSize);
     clear();
 }
@@ -31,17 +16,18 @@ void ImageBlock::put(const Point2f &position, const Color3f &value) {
     Point2f pos(position.x() - 0.5f - static_cast<float>(m_offset.x() - m_borderSize),
                 position.y() - 0.5f - static_cast<float>(m_offset.y() - m_borderSize));
 
-    const int xMin = std::max(0, static_cast<int>(std::ceil(pos.x() - m_filterRadius)));
-    const int yMin = std::max(0, static_cast<int>(std::ceil(pos.y() - m_filterRadius)));
-    const int xMax = std::min(static_cast<int>(cols()) - 1,
-                              static_cast<int>(std::floor(pos.x() + m_filterRadius)));
-    const int yMax = std::min(static_cast<int>(rows()) - 1,
-                              static_cast<int>(std::floor(pos.y() + m_filterRadius)));
+    const float radius = m_filter.radius();
+    const int xMin = std::max(0, static_cast<int>(std::ceil(pos.x() - radius)));
+    const int yMin = std::max(0, static_cast<int>(std::ceil(pos.y() - radius)));
+    const int xMax =
+        std::min(static_cast<int>(cols()) - 1, static_cast<int>(std::floor(pos.x() + radius)));
+    const int yMax =
+        std::min(static_cast<int>(rows()) - 1, static_cast<int>(std::floor(pos.y() + radius)));
 
     for (int y = yMin; y <= yMax; ++y) {
-        float weightY = weightAt(static_cast<float>(y) - pos.y());
+        float weightY = m_filter.weight(static_cast<float>(y) - pos.y());
         for (int x = xMin; x <= xMax; ++x) {
-            float weight = weightY * weightAt(static_cast<float>(x) - pos.x());
+            float weight = weightY * m_filter.weight(static_cast<float>(x) - pos.x());
             coeffRef(y, x) += Color4f(value, weight);
         }
     }

@@ -51,6 +51,16 @@ Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const Emitte
     return le * balanceHeuristic(scatterPdf, lightPdf);
 }
 
+float adjointSampleFactor(const Intersection &its, const Vector3f &wi, const Vector3f &wo,
+                          const BSDFQueryRecord &bRec) {
+    const float cosInGeometric = std::abs(wi.dot(its.geoFrame.n));
+    const float cosOutShading = std::abs(Frame::cosTheta(bRec.wo));
+    if (cosInGeometric == 0.0f || cosOutShading == 0.0f)
+        return 0.0f;
+    return bRec.eta * bRec.eta * std::abs(Frame::cosTheta(bRec.wi)) *
+           std::abs(wo.dot(its.geoFrame.n)) / (cosInGeometric * cosOutShading);
+}
+
 PathDepth PathDepth::read(const PropertyList &props, const std::string &plugin) {
     PathDepth depth;
     depth.maxDepth = props.getInteger("maxDepth", -1);

@@ -66,15 +66,11 @@ void tracePhotonPath(const Scene &scene, uint64_t seed, uint64_t index,
         const Vector3f wo = its.toWorld(bRec.wo);
         if ((weight == 0.0f).all() || !its.sidesAgree(wo))
             return;
-        // Flux is not scaled by 1/η² across a refraction as radiance is (Veach 1997, §5.2),
-        // and shading normals make the adjoint BSDF differ by |wi·ns||wo·ng|/(|wi·ng||wo·ns|)
-        // (Veach 1997, §5.3; PBR 3rd ed. §16.1.3).
-        const float cosInGeometric = std::abs(wi.dot(its.geoFrame.n));
-        const float cosOutShading = std::abs(Frame::cosTheta(bRec.wo));
-        if (cosInGeometric == 0.0f || cosOutShading == 0.0f)
+        // Photons carry flux: the adjoint of the BSDF's radiance weight.
+        const float adjoint = adjointSampleFactor(its, wi, wo, bRec);
+        if (adjoint == 0.0f)
             return;
-        weight *= bRec.eta * bRec.eta * std::abs(Frame::cosTheta(bRec.wi)) *
-                  std::abs(wo.dot(its.geoFrame.n)) / (cosInGeometric * cosOutShading);
+        weight *= adjoint;
         power *= weight;
         throughput *= weight;
         // Russian roulette: continue with probability q, and divide by it.

@@ -12,8 +12,44 @@ float ReconstructionFilter::checkedRadius(float radius, const char *filterName) 
     return radius;
 }
 
+FilterTable::FilterTable(const ReconstructionFilter *filter) {
+    if (filter) {
+        m_radius = filter->getRadius();
+        for (int i = 0; i < kResolution; ++i)
+            m_values[static_cast<size_t>(i)] =
+                filter->eval(m_radius * static_cast<float>(i) / static_cast<float>(kResolution));
+        m_values[kResolution] = 0.0f;
+    } else {
+        m_values.fill(1.0f);
+    }
+    m_lookupFactor = static_cast<float>(kResolution) / m_radius;
+}
+
+float FilterTable::halfIntegral(float t) const {
+    const float step = m_radius / static_cast<float>(kResolution);
+    const float clamped = std::min(t, m_radius);
+    const int whole = std::min(static_cast<int>(clamped / step), kResolution);
+    float sum = 0.0f;
+    for (int i = 0; i < whole; ++i)
+        sum += m_values[static_cast<size_t>(i)] * step;
+    if (whole < kResolution)
+        sum += m_values[static_cast<size_t>(whole)] * (clamped - static_cast<float>(whole) * step);
+    return sum;
+}
+
+float FilterTable::integral(float a, float b) const {
+    if (!(a < b))
+        return 0.0f;
+    // The table is even: fold each side of zero onto [0, radius].
+    if (a >= 0.0f)
+        return halfIntegral(b) - halfIntegral(a);
+    if (b <= 0.0f)
+        return halfIntegral(-a) - halfIntegral(-b);
+    return halfIntegral(-a) + halfIntegral(b);
+}
+
 FilterSampler::FilterSampler(const ReconstructionFilter *filter) {
-    constexpr int kSteps = 32; // ImageBlock's kFilterResolution
+    constexpr int kSteps = FilterTable::kResolution; // as the film reconstructs
     if (filter)
         m_radius = filter->getRadius();
     m_cdf.push_back(0.0f);
