@@ -9,6 +9,21 @@
 
 namespace nori {
 
+/// A connection from a point of the scene to the camera's lens (light tracing, BDPT's
+/// t = 1 strategies; Veach 1997, §10.2; PBR 3rd ed., §16.1.1), made by Camera::connect.
+struct CameraConnection {
+    Point3f lensPoint;     ///< the point on the lens (world space)
+    Vector3f direction;    ///< unit, from the scene point toward lensPoint
+    float distance = 0.0f; ///< from the scene point to lensPoint
+    Point2f filmPosition;  ///< where the film sees the point (pixels, from the top-left corner)
+    /// What a unit of radiance leaving the scene point toward the lens adds to the film at
+    /// filmPosition, per unit of cosine-weighted area at the scene point: We·cos θ_lens /
+    /// (d²·p(lens point)), with We normalised to the film in pixels (see Splat in
+    /// integrator.h). For a pinhole or thin lens 1/(A cos³θ d²), A the area of the film
+    /// on the plane at distance 1 (PBR 3rd ed., §16.1.1).
+    float importance = 0.0f;
+};
+
 class Camera : public NoriObject {
 public:
     static constexpr EClassType kClassType = ECamera;
@@ -29,6 +44,20 @@ public:
     /// §6.1). Any camera gets them this way; one with a cheaper closed form may override.
     virtual Color3f sampleRayDifferential(Ray3f &ray, const Point2f &samplePosition,
                                           const Point2f &apertureSample) const;
+
+    /// Whether connect() works: a camera with a point or thin lens can be connected to; one
+    /// whose rays pass a lens system (realistic) cannot, and integrators that connect
+    /// (lighttracer) reject it by name.
+    virtual bool canConnect() const { return false; }
+    /// Connects the scene point `reference` to a point on the lens chosen by `lensSample`
+    /// (uniform over the aperture). False when the point is not seen: behind the camera,
+    /// outside the clip range or outside the image. The visibility of the segment is the
+    /// caller's to test. Cameras that cannot connect return false.
+    virtual bool connect(const Point3f &reference, const Point2f &lensSample,
+                         CameraConnection &connection) const {
+        (void)reference, (void)lensSample, (void)connection;
+        return false;
+    }
 
     const Vector2i &getOutputSize() const { return m_outputSize; }
     const ReconstructionFilter *getReconstructionFilter() const { return m_rfilter.get(); }

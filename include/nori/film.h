@@ -8,6 +8,7 @@
 #include <nori/aov.h>
 #include <nori/imageblock.h>
 #include <nori/layeredimage.h>
+#include <nori/splatbuffer.h>
 
 #include <algorithm>
 #include <array>
@@ -26,6 +27,10 @@ struct FilmSample {
     /// the sample is splatted with the filter into every pixel it reaches.
     const Point2i *ownPixel{};
     float filterSign = 1.0f;
+    /// A sample of an integrator that splats (Integrator::splats): its radiance went to
+    /// the film's SplatBuffer, and its own pixel (ownPixel) counts it with weight 1, the
+    /// weight the splat sums are divided by; its AOVs go to that pixel alone.
+    bool splatted = false;
 };
 
 /// One pixel's sample count, and the luminance statistics (unfiltered) on which adaptive
@@ -118,8 +123,10 @@ public:
     /// pixels, row by row; `adaptive`: keep the statistics adaptive sampling needs. The
     /// image-sized buffer that develop() merges into is allocated here, so that a film
     /// too large for memory fails before rendering, not after.
+    /// `splatting`: the integrator splats (Integrator::splats), and the film keeps a
+    /// SplatBuffer for it.
     Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector<AOV> aovs,
-         bool adaptive, int blockSize = 32);
+         bool adaptive, bool splatting = false, int blockSize = 32);
 
     const Vector2i &size() const { return m_size; }
     const std::vector<AOV> &aovs() const { return m_aovs; }
@@ -135,6 +142,10 @@ public:
     /// Pixels adaptive sampling has stopped.
     size_t convergedPixels() const;
 
+    /// Adds a pass's splats (the film was made with `splatting`), one list per block in
+    /// block order: see SplatBuffer::add.
+    void addSplats(const std::vector<std::vector<SplatBuffer::Record>> &lists);
+
     /// The image: the beauty as R, G, B and one layer per AOV. Blocks are merged in
     /// index order, so every pixel sums the same values in the same order every time.
     /// Not thread-safe (it reuses one merge buffer). With the variance layer, also the
@@ -145,7 +156,8 @@ public:
     LayeredImage develop(bool withWeights = false) const;
 
 private:
-    /// One layer of every block, merged into m_merged.
+    /// One layer of every block, merged into m_merged, with the splat sums added to the
+    /// beauty and to the even half.
     const ImageBlock &merge(int layer) const;
     /// The interior's filter weights (the w of each pixel's sums).
     LayeredImage::Channel filterWeights(const ImageBlock &block) const;
@@ -155,6 +167,7 @@ private:
     std::vector<AOV> m_aovs;
     bool m_pixelStatistics;
     std::vector<std::unique_ptr<FilmBlock>> m_blocks;
+    std::unique_ptr<SplatBuffer> m_splats; ///< only for an integrator that splats
     mutable ImageBlock m_merged;
 };
 

@@ -11,6 +11,18 @@ namespace nori {
 class Scene;
 class Sampler;
 
+/// Light a sample puts on the film at a position of its own choosing (light tracing: a
+/// path from a light connected to the camera lands on any pixel). The film reconstructs a
+/// pixel j from the splats of every sample of the render as (1/spp)·Σ value·f(position −
+/// c_j)/F_j, where f is the reconstruction filter, c_j the pixel's centre and F_j = ∫ f(x −
+/// c_j) dx over the image (1 away from the edges), so that a splat of `value` ≡ radiance ×
+/// CameraConnection::importance × (the rest of the path's weight) is unbiased for the
+/// filtered image whatever the filter (see SplatBuffer).
+struct Splat {
+    Point2f position; ///< film position in pixels, from the top-left corner
+    Color3f value;
+};
+
 class Integrator : public NoriObject {
 public:
     static constexpr EClassType kClassType = EIntegrator;
@@ -19,6 +31,24 @@ public:
     virtual void preprocess(const Scene *scene) { (void)scene; }
     /// The radiance arriving at ray.o from direction -ray.d.
     virtual Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const = 0;
+
+    /// Whether the integrator puts light on pixels other than the one a camera ray samples
+    /// (light tracing): the render loop then calls LiAndSplats instead of Li.
+    virtual bool splats() const { return false; }
+    /// Li, and the splats of the same sample appended to `splats`. An integrator that
+    /// splats estimates a pixel from both: Li from the camera ray (light seen directly, for
+    /// a light tracer) and the splats (every other path).
+    virtual Color3f LiAndSplats(const Scene *scene, Sampler *sampler, const Ray3f &ray,
+                                std::vector<Splat> &splats) const {
+        (void)splats;
+        return Li(scene, sampler, ray);
+    }
+
+    /// Whether the integrator renders what the camera sees only through delta BSDFs
+    /// (mirrors, smooth glass, and what is seen in them). A light tracer cannot: such
+    /// paths have no vertex it can connect to the lens. `nori --test-plugin` leaves out
+    /// its scenes with such surfaces in view for an integrator that says false.
+    virtual bool rendersSpecularInView() const { return true; }
 
     /// Integrators that work in passes (the progressive photon mapper traces a photon map
     /// per pass): the render loop calls beginPass before rendering sample indices

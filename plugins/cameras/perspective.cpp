@@ -4,7 +4,8 @@
  * image's left (EPFL's Nori 2) or right (ETH's). With apertureRadius > 0, rays start on
  * a disk of that radius (concentric mapping) and pass through the point of the pinhole
  * ray at focalDistance, so that plane is sharp. A nested <rfilter> replaces the default
- * gaussian filter.
+ * gaussian filter. Light tracing connects scene points to either lens (PBR 3rd ed.,
+ * §16.1.1: importance We = 1/(A·lens area·cos⁴θ), A the film's area at distance 1).
  *
  * Parameters:
  *   width       integer    1280      image width in pixels
@@ -65,6 +66,51 @@ public:
 
         m_tanHalfFov = std::tan(degToRad(0.5f * m_fov));
         m_aspect = static_cast<float>(m_outputSize.x()) / static_cast<float>(m_outputSize.y());
+        m_worldToCamera = m_cameraToWorld.inverse();
+    }
+
+    bool canConnect() const override { return true; }
+
+    bool connect(const Point3f &reference, const Point2f &lensSample,
+                 CameraConnection &connection) const override {
+        const Point3f lens = lensPoint(lensSample);
+        const Point3f p = m_worldToCamera * reference;
+        // In front of the lens and within the clip range (the planes z = const that
+        // sampleRay's rays span).
+        if (!(p.z() >= m_nearClip && p.z() <= m_farClip))
+            return false;
+        // Where the ray from the lens point through p crosses the plane of focus (the
+        // plane z = 1 for a pinhole), and so which film position sampleRay would have
+        // sent along it.
+        const float focus = m_apertureRadius > 0.0f ? m_focalDistance : 1.0f;
+        const Point3f onFocus = lens + (p - lens) * (focus / p.z());
+        const float x = onFocus.x() / (focus * m_tanHalfFov);
+        const float y = onFocus.y() * m_aspect / (focus * m_tanHalfFov);
+        const float u = m_convention == Convention::EPFL ? 0.5f * (1.0f - x) : 0.5f * (x + 1.0f);
+        const float v = 0.5f * (1.0f - y);
+        if (!(u >= 0.0f && u < 1.0f && v >= 0.0f && v < 1.0f))
+            return false;
+        connection.filmPosition = Point2f(u * static_cast<float>(m_outputSize.x()),
+                                          v * static_cast<float>(m_outputSize.y()));
+        if (!(connection.filmPosition.x() < static_cast<float>(m_outputSize.x()) &&
+              connection.filmPosition.y() < static_cast<float>(m_outputSize.y())))
+            return false; // u just below 1 rounded up to the width
+
+        connection.lensPoint = m_cameraToWorld * lens;
+        const Vector3f toLens = connection.lensPoint - reference;
+        connection.distance = toLens.norm();
+        if (!(connection.distance > 0.0f) || !std::isfinite(connection.distance))
+            return false;
+        connection.direction = toLens / connection.distance;
+        // The film spans [−tan(fov/2), tan(fov/2)] × [−tan(fov/2)/aspect, ...] at distance
+        // 1; a ray at angle θ to the axis sees dω = cos³θ dA of it, so the film's
+        // response per unit solid angle is 1/(A cos³θ), and per unit of the reference's
+        // projected area that over d². The lens area cancels against its sampling pdf.
+        const float cosTheta = (p - lens).normalized().z();
+        const float filmArea = 4.0f * m_tanHalfFov * m_tanHalfFov / m_aspect;
+        connection.importance = 1.0f / (filmArea * cosTheta * cosTheta * cosTheta *
+                                        connection.distance * connection.distance);
+        return std::isfinite(connection.importance);
     }
 
     Color3f sampleRay(Ray3f &ray, const Point2f &samplePosition,
@@ -76,14 +122,11 @@ public:
         Vector3f d = Vector3f(filmX(u, m_convention) * m_tanHalfFov,
                               (1.0f - 2.0f * v) * m_tanHalfFov / m_aspect, 1.0f)
                          .normalized();
-        Point3f origin(0.0f, 0.0f, 0.0f);
+        const Point3f origin = lensPoint(apertureSample);
         if (m_apertureRadius > 0.0f) {
             // Thin lens: from a point of the lens disk toward where the pinhole ray meets
             // the plane of focus z = focalDistance.
             const Point3f focus = d * (m_focalDistance / d.z());
-            const Point2f lens =
-                m_apertureRadius * Warp::squareToUniformDiskConcentric(apertureSample);
-            origin = Point3f(lens.x(), lens.y(), 0.0f);
             d = Vector3f(focus - origin).normalized();
         }
         // The clip planes are planes z = const, so the ray's extent depends on d.z. The
@@ -107,9 +150,18 @@ public:
     }
 
 private:
+    /// The point of the lens (camera space) for an aperture sample: the centre for a
+    /// pinhole, else uniform on the disk (concentric mapping).
+    Point3f lensPoint(const Point2f &apertureSample) const {
+        if (m_apertureRadius <= 0.0f)
+            return Point3f(0.0f, 0.0f, 0.0f);
+        const Point2f lens = m_apertureRadius * Warp::squareToUniformDiskConcentric(apertureSample);
+        return Point3f(lens.x(), lens.y(), 0.0f);
+    }
+
     float m_fov, m_nearClip, m_farClip, m_apertureRadius, m_focalDistance;
     float m_tanHalfFov, m_aspect;
-    Transform m_cameraToWorld;
+    Transform m_cameraToWorld, m_worldToCamera;
     Convention m_convention;
 };
 

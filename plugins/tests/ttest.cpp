@@ -3,8 +3,8 @@
  * 2's format. BSDF mode: the albedo of every nested BSDF (mean luminance of sample()'s
  * weight) at every angle of `angles`; `references` lists one value per BSDF and angle,
  * BSDF by BSDF (Nori 2 indexes these wrongly with several BSDFs). Scene mode: the
- * luminance of Li() over a nested scene's (tiny) image, one reference per scene; the
- * integrator is preprocessed and the sampler seeded as in a render. A scene that names no
+ * luminance of Li() over a nested scene's (tiny) image, one reference per scene (for an
+ * integrator that splats, Li and the sample's splats); the integrator is preprocessed and the sampler seeded as in a render. A scene that names no
  * sampler is sampled by `independent`, Nori 2's default, as its references were made
  * (renders default to `sobol`). The significance level is Šidák-corrected over all tests.
  *
@@ -120,7 +120,9 @@ private:
                                                : scene.getSampler()->clone();
         const Camera *camera = scene.getCamera();
         const Vector2i size = camera->getOutputSize();
+        const Integrator &integrator = *scene.getIntegrator();
         RunningMoments moments;
+        std::vector<Splat> splats;
         for (size_t i = 0; i < m_sampleCount; ++i) {
             // Each sample is its own "pixel" of the sequence, so samples are independent
             // whatever the sampler does between pixels.
@@ -129,8 +131,15 @@ private:
             const Point2f pixel(film.x() * size.x(), film.y() * size.y());
             Ray3f ray;
             Color3f value = scene.sampleCameraRay(ray, pixel, sampler->next2D());
+            splats.clear();
             if (!(value == 0.0f).all())
-                value *= scene.getIntegrator()->Li(&scene, sampler.get(), ray);
+                value *= integrator.splats()
+                             ? integrator.LiAndSplats(&scene, sampler.get(), ray, splats)
+                             : integrator.Li(&scene, sampler.get(), ray);
+            // The image's mean (unfiltered) counts a sample's splats wherever they land
+            // (see Splat: the film averages them over the samples of every pixel).
+            for (const Splat &splat : splats)
+                value += splat.value;
             moments.add(value.getLuminance());
         }
         return studentTTest(moments.mean, moments.variance(), moments.count, reference, alpha);

@@ -49,9 +49,16 @@ void FilmBlock::put(const FilmSample &sample) {
         else
             m_layers[layer]->put(sample.position, value);
     };
-    splat(kBeauty, sample.radiance);
-    if (m_layers[kEvenHalf] && sample.sampleIndex % 2 == 0)
-        splat(kEvenHalf, sample.radiance);
+    const bool even = m_layers[kEvenHalf] && sample.sampleIndex % 2 == 0;
+    if (sample.splatted) {
+        m_layers[kBeauty]->putInPixel(*sample.ownPixel, Color3f(0.0f), 1.0f);
+        if (even)
+            m_layers[kEvenHalf]->putInPixel(*sample.ownPixel, Color3f(0.0f), 1.0f);
+    } else {
+        splat(kBeauty, sample.radiance);
+        if (even)
+            splat(kEvenHalf, sample.radiance);
+    }
     if (!sample.surface)
         return;
     const SurfaceAOVs &surface = *sample.surface;
@@ -98,7 +105,7 @@ void FilmBlock::updateConvergence(size_t minSamples, float maxTolerance) {
 }
 
 Film::Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector<AOV> aovs,
-           bool adaptive, int blockSize)
+           bool adaptive, bool splatting, int blockSize)
     : m_size(size), m_filter(filter), m_aovs(std::move(aovs)),
       m_pixelStatistics(adaptive ||
                         std::find(m_aovs.begin(), m_aovs.end(), AOV::SampleCount) != m_aovs.end()),
@@ -109,6 +116,15 @@ Film::Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector
                 Point2i(x, y),
                 Vector2i(std::min(blockSize, size.x() - x), std::min(blockSize, size.y() - y)),
                 filter, m_aovs, m_pixelStatistics));
+    if (splatting)
+        m_splats = std::make_unique<SplatBuffer>(
+            size, filter, std::find(m_aovs.begin(), m_aovs.end(), AOV::Variance) != m_aovs.end());
+}
+
+void Film::addSplats(const std::vector<std::vector<SplatBuffer::Record>> &lists) {
+    if (!m_splats)
+        throw NoriException("Film::addSplats: the film was not made for an integrator that splats");
+    m_splats->add(lists);
 }
 
 bool Film::needsSurfaceAOVs() const {
@@ -145,6 +161,16 @@ const ImageBlock &Film::merge(int layer) const {
     m_merged.clear();
     for (const auto &block : m_blocks)
         m_merged.put(*block->m_layers[layer]);
+    if (m_splats && (layer == FilmBlock::kBeauty || layer == FilmBlock::kEvenHalf)) {
+        // The splats' sums carry no weight: the pixel's own samples' count divides them.
+        const int border = m_merged.getBorderSize();
+        for (int y = 0; y < m_size.y(); ++y)
+            for (int x = 0; x < m_size.x(); ++x) {
+                const Color3f &sum =
+                    layer == FilmBlock::kBeauty ? m_splats->sum(x, y) : m_splats->evenSum(x, y);
+                m_merged(y + border, x + border) += Color4f(sum.r(), sum.g(), sum.b(), 0.0f);
+            }
+    }
     return m_merged;
 }
 

@@ -21,6 +21,10 @@ bool isCancelled(const RenderOptions &options) {
 /// Mixed into the sampler's seed for adaptive sampling's decision samples.
 constexpr uint64_t kDecisionStream = 0xdec15105;
 
+/// An integrator that splats renders passes of at most this many samples (over all
+/// pixels): its splats are kept until the pass ends, a few records of 24 bytes a sample.
+constexpr size_t kSplattingSamplesPerPass = size_t(1) << 19;
+
 /// Sample indices [first, end) of every pixel.
 struct SampleRange {
     uint32_t first, end;
@@ -28,19 +32,26 @@ struct SampleRange {
 
 /// Renders the samples `range` of the block's pixels that adaptive sampling has not
 /// stopped into `pass`, and under adaptive sampling each such pixel's decision samples
-/// (see PixelStatistics) from `decisionSampler`. Returns false when cancelled part-way.
+/// (see PixelStatistics) from `decisionSampler`. An integrator that splats puts every
+/// sample's light, its own and its splats, into `splats` instead. Returns false when
+/// cancelled part-way.
 bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSampler,
                      const Film &film, const FilterSampler &filterSampler,
                      const FilmBlock &accumulated, FilmBlock &pass, SampleRange range,
-                     const RenderOptions &options, size_t &validSamples, size_t &invalidSamples) {
+                     const RenderOptions &options, std::vector<SplatBuffer::Record> &splats,
+                     size_t &validSamples, size_t &invalidSamples) {
     const Integrator *integrator = scene.getIntegrator();
     const bool surfaceAOVs = film.needsSurfaceAOVs();
+    const bool splatting = integrator->splats();
     // Under adaptive sampling each pixel is reconstructed from its own samples, drawn
     // from the filter: with splatting, a stopped pixel would keep taking its running
     // neighbours' samples, and its filter would lean toward them (by whole units at the
-    // edge of a light).
+    // edge of a light). The samples of an integrator that splats go to the SplatBuffer,
+    // which divides by the filter's integral instead of the sum of weights: uniform
+    // positions there.
     const bool importanceSampleFilter =
-        options.filterImportanceSampling || sampler.getMaxTolerance() > 0.0f;
+        !splatting && (options.filterImportanceSampling || sampler.getMaxTolerance() > 0.0f);
+    std::vector<Splat> sampleSplats;
     sampler.prepare(pass.beauty());
     if (decisionSampler)
         decisionSampler->prepare(pass.beauty());
@@ -76,7 +87,9 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
             sample.surface = traceSurfaceAOVs(
                 scene, ray, hashValues(generator.getSeed(), pixel.x(), pixel.y(), index));
         if (traced)
-            sample.value *= integrator->Li(&scene, &generator, ray);
+            sample.value *= splatting
+                                ? integrator->LiAndSplats(&scene, &generator, ray, sampleSplats)
+                                : integrator->Li(&scene, &generator, ray);
         return sample;
     };
 
@@ -90,14 +103,26 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
                 // Ctrl-C is prompt even when a pass has many samples per pixel.
                 if (isCancelled(options))
                     return false;
+                sampleSplats.clear();
                 const Sample sample = trace(sampler, pixel, index, surfaceAOVs);
                 if (!sample.value.isValid()) {
                     ++invalidSamples;
                     continue;
                 }
+                if (splatting) {
+                    const bool even = index % 2 == 0;
+                    splats.push_back({sample.position, sample.value, even});
+                    for (const Splat &splat : sampleSplats) {
+                        if (splat.value.isValid())
+                            splats.push_back({splat.position, splat.value, even});
+                        else
+                            ++invalidSamples;
+                    }
+                }
                 pass.put({sample.position, sample.value, index,
                           surfaceAOVs ? &sample.surface : nullptr,
-                          importanceSampleFilter ? &pixel : nullptr, sample.filterSign});
+                          importanceSampleFilter || splatting ? &pixel : nullptr, sample.filterSign,
+                          splatting});
                 pass.countSample(x, y);
                 ++validSamples;
             }
@@ -145,8 +170,14 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     for (AOV aov : options.aovs)
         if (std::find(aovs.begin(), aovs.end(), aov) == aovs.end())
             aovs.push_back(aov);
+    const bool splatting = scene.getIntegrator()->splats();
+    if (splatting && prototype->getMaxTolerance() > 0.0f)
+        throw NoriException("adaptive sampling (the sampler's maxTolerance) cannot be used with "
+                            "the integrator '{}': its samples also light other pixels, which "
+                            "would not stop with theirs",
+                            scene.getIntegrator()->pluginName());
     Film film(outputSize, camera->getReconstructionFilter(), aovs,
-              prototype->getMaxTolerance() > 0.0f);
+              prototype->getMaxTolerance() > 0.0f, splatting);
     const FilterSampler filterSampler(camera->getReconstructionFilter());
 
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
@@ -175,6 +206,9 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
             targetSpp - sppDone);
         if (integrator->maxSamplesPerPass() > 0)
             passSize = std::min(passSize, integrator->maxSamplesPerPass());
+        if (splatting)
+            passSize =
+                std::min(passSize, std::max<size_t>(1, kSplattingSamplesPerPass / pixelCount));
         if (options.timeBudget > 0.0 && sppDone > 0) {
             // Shorten the pass to what the measured rate says fits in the budget left.
             // The rate from the passes alone; the budget left from the whole render.
@@ -191,6 +225,7 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
         arena.execute([&] { integrator->beginPass(&scene, range.first, range.end); });
 
         std::vector<std::unique_ptr<FilmBlock>> passBlocks(film.blockCount());
+        std::vector<std::vector<SplatBuffer::Record>> passSplats(film.blockCount());
         std::atomic<bool> interrupted{false};
         size_t passValid = 0, passInvalid = 0; // counted in the result once committed
         arena.execute([&] {
@@ -209,7 +244,7 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
                         size_t valid = 0, invalid = 0;
                         if (!renderBlockPass(scene, *sampler, decisionSampler.get(), film,
                                              filterSampler, film.block(index), *pass, range,
-                                             options, valid, invalid)) {
+                                             options, passSplats[index], valid, invalid)) {
                             interrupted = true;
                             return;
                         }
@@ -236,6 +271,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
                     block.updateConvergence(settings.getMinSamples(), settings.getMaxTolerance());
             });
         });
+        if (splatting)
+            arena.execute([&] { film.addSplats(passSplats); });
         arena.execute([&] { integrator->endPass(&scene); });
         sppDone += passSize;
         ++result.passes;

@@ -1,0 +1,68 @@
+#include <nori/splatbuffer.h>
+
+#include <tbb/parallel_for.h>
+
+namespace nori {
+
+namespace {
+
+/// Rows summed by one task of SplatBuffer::add.
+constexpr int kRowsPerBand = 16;
+
+/// 1/∫ f(c − x) dx over x in [0, extent], c = i + 1/2, for each pixel i of an axis.
+std::vector<float> inverseCoverage(const FilterTable &filter, int extent) {
+    std::vector<float> result(static_cast<size_t>(extent));
+    for (int i = 0; i < extent; ++i) {
+        const float centre = static_cast<float>(i) + 0.5f;
+        const float coverage = filter.integral(centre - static_cast<float>(extent), centre);
+        result[static_cast<size_t>(i)] = coverage != 0.0f ? 1.0f / coverage : 0.0f;
+    }
+    return result;
+}
+
+} // namespace
+
+SplatBuffer::SplatBuffer(const Vector2i &size, const ReconstructionFilter *filter, bool evenHalf)
+    : m_size(size), m_filter(filter), m_inverseCoverageX(inverseCoverage(m_filter, size.x())),
+      m_inverseCoverageY(inverseCoverage(m_filter, size.y())), m_sum(size) {
+    if (evenHalf)
+        m_evenSum = Bitmap(size);
+}
+
+void SplatBuffer::put(const Record &record, int rowBegin, int rowEnd) {
+    // Pixel centres at integer coordinates, as ImageBlock::put has them.
+    const float px = record.position.x() - 0.5f, py = record.position.y() - 0.5f;
+    const float radius = m_filter.radius();
+    const int yMin = std::max(rowBegin, static_cast<int>(std::ceil(py - radius)));
+    const int yMax = std::min(rowEnd - 1, static_cast<int>(std::floor(py + radius)));
+    if (yMin > yMax)
+        return;
+    const int xMin = std::max(0, static_cast<int>(std::ceil(px - radius)));
+    const int xMax = std::min(m_size.x() - 1, static_cast<int>(std::floor(px + radius)));
+    const bool even = record.evenSample && hasEvenHalf();
+    for (int y = yMin; y <= yMax; ++y) {
+        const float weightY = m_filter.weight(static_cast<float>(y) - py) *
+                              m_inverseCoverageY[static_cast<size_t>(y)];
+        for (int x = xMin; x <= xMax; ++x) {
+            const float weight = weightY * m_filter.weight(static_cast<float>(x) - px) *
+                                 m_inverseCoverageX[static_cast<size_t>(x)];
+            const Color3f value = record.value * weight;
+            m_sum(y, x) += value;
+            if (even)
+                m_evenSum(y, x) += value;
+        }
+    }
+}
+
+void SplatBuffer::add(const std::vector<std::vector<Record>> &lists) {
+    const int bands = (m_size.y() + kRowsPerBand - 1) / kRowsPerBand;
+    tbb::parallel_for(0, bands, [&](int band) {
+        const int rowBegin = band * kRowsPerBand;
+        const int rowEnd = std::min(m_size.y(), rowBegin + kRowsPerBand);
+        for (const std::vector<Record> &list : lists)
+            for (const Record &record : list)
+                put(record, rowBegin, rowEnd);
+    });
+}
+
+} // namespace nori
