@@ -42,9 +42,10 @@ float SceneBoundingSphere::photonRayFrom(const Vector3f &toLight, const Point2f 
 }
 
 Color3f Emitter::samplePhoton(Ray3f &, const Point2f &, const Point2f &) const {
-    throw NoriException("{} cannot emit photons (its plugin does not override "
-                        "Emitter::samplePhoton), so the photon mappers cannot use it",
-                        toString());
+    throw NoriException(
+        "{} cannot emit photons (its plugin does not override "
+        "Emitter::samplePhoton), so the photon mappers and the light tracer cannot use it",
+        toString());
 }
 
 float Emitter::aimAtPoint(EmitterQueryRecord &lRec, const Point3f &position) {

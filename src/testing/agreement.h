@@ -43,6 +43,8 @@ struct AgreementScene {
     std::map<std::string, std::function<void(const std::string &path)>> files;
     std::vector<ImageRegion> regions; ///< besides the whole image
     std::vector<Estimator> estimators;
+    /// The camera sees mirrors or smooth glass (see Integrator::rendersSpecularInView).
+    bool specularInView = false;
 };
 
 struct AgreementSettings {

@@ -173,6 +173,12 @@ Estimator adaptive(size_t spp) {
             ""};
 }
 
+Estimator lightTracer(size_t spp, const std::string &params = "") {
+    return {"lighttracer", fmt::format(R"(<integrator type="lighttracer">{}</integrator>)", params),
+            "independent", "",
+            spp,           ""};
+}
+
 Estimator progressivePhotons(size_t spp, int photons) {
     return {"sppm",
             fmt::format(R"(<integrator type="progressivephotonmapper">
@@ -219,7 +225,8 @@ AgreementScene cornellBox() {
                         sampler("sobol", 512),
                         sampler("stratified", 512),
                         adaptive(768),
-                        progressivePhotons(64, 20000)};
+                        progressivePhotons(64, 20000),
+                        lightTracer(512)};
     return scene;
 }
 
@@ -253,7 +260,7 @@ AgreementScene glossyPlates() {
     scene.body = perspective("0, 0.6, 3.2", "0, -0.4, 0", 45, 32) + plates + lights;
     scene.regions = {{"highlights", 2, 14, 28, 6}, {"upper", 2, 8, 28, 5}};
     scene.estimators = {pathTracer("path_mis", 1024), pathTracer("path_ems", 1024),
-                        pathTracer("path_mats", 4096), sampler("sobol", 1024)};
+                        pathTracer("path_mats", 4096), sampler("sobol", 1024), lightTracer(1024)};
     scene.estimators[2].powerExemption =
         "BSDF sampling rarely finds the smallest light (radius 0.03) from the sharpest plates: "
         "0.5 % would take far more samples than a test has";
@@ -273,6 +280,7 @@ AgreementScene skyWithSun() {
                  sphere("-0.7, 0.5, 0", 0.5f, R"(<bsdf type="roughconductor">
                      <string name="material" value="Au"/><float name="alpha" value="0.15"/></bsdf>)") +
                  sphere("0.7, 0.5, 0", 0.5f, R"(<bsdf type="dielectric"/>)");
+    scene.specularInView = true;
     scene.regions = {{"sky", 0, 0, 32, 3},
                      {"conductor", 9, 10, 6, 6},
                      {"glass", 17, 10, 6, 6},
@@ -301,9 +309,13 @@ AgreementScene deltaLights() {
                      <color name="irradiance" value="1, 0.9, 0.8"/></emitter>)";
     scene.regions = {{"sphere", 12, 7, 8, 7}, {"shadow", 9, 15, 6, 3}};
     const std::string depth1 = R"(<integer name="maxDepth" value="1"/>)";
-    scene.estimators = {pathTracer("path_mis", 512, depth1), pathTracer("path_ems", 512, depth1),
-                        pathTracer("direct_mis", 512),       pathTracer("direct_ems", 512),
-                        pathTracer("whitted", 512),          pathTracer("direct", 512)};
+    scene.estimators = {pathTracer("path_mis", 512, depth1),
+                        pathTracer("path_ems", 512, depth1),
+                        pathTracer("direct_mis", 512),
+                        pathTracer("direct_ems", 512),
+                        pathTracer("whitted", 512),
+                        pathTracer("direct", 512),
+                        lightTracer(512, depth1)};
     return scene;
 }
 
@@ -324,7 +336,7 @@ AgreementScene texturedPlane() {
                  mesh("light.obj", diffuse("0") + areaLight("4"));
     scene.regions = {{"centre", 8, 8, 16, 16}};
     scene.estimators = {pathTracer("path_mis", 256), pathTracer("path_ems", 256),
-                        pathTracer("path_mats", 512), sampler("sobol", 256)};
+                        pathTracer("path_mats", 512), sampler("sobol", 256), lightTracer(256)};
     return scene;
 }
 
@@ -396,7 +408,7 @@ AgreementScene instances() {
                                      R"(<boolean name="visible" value="false"/>)" + copies);
     scene.regions = {{"centre", 10, 10, 12, 12}};
     scene.estimators = {pathTracer("path_mis", 256), pathTracer("path_ems", 256),
-                        pathTracer("path_mats", 512)};
+                        pathTracer("path_mats", 512), lightTracer(256)};
     return scene;
 }
 
@@ -421,6 +433,13 @@ AgreementScene disney() {
             <float name="clearcoat" value="1"/><float name="clearcoatGloss" value="0.7"/>
             <float name="subsurface" value="0.5"/></bsdf>)");
     scene.regions = {{"default", 1, 9, 7, 9}, {"metal", 12, 9, 8, 9}, {"coated", 24, 9, 7, 9}};
+    // Not the light tracer: it sees the clearcoat's and the anisotropic metal's sharp
+    // highlights only through rare connections of large value, so 16 batch means are far
+    // from normal and the 4-standard-error rule does not hold for it. Measured (2026-12-04):
+    // lighttracer − path_mis on the image +4.13 standard errors at 512 spp (seed 1), but
+    // −2.43 at 8 times the samples (same seed, 0.42 % power) and −0.11 with seed 5; +0.92
+    // and −0.62 at 512 spp with seeds 2 and 3 (nori-agreement --scene disney --estimator
+    // path_mis --estimator lighttracer [--soak] --seed S, with lightTracer(512) added).
     scene.estimators = {pathTracer("path_mis", 512), pathTracer("path_ems", 512),
                         pathTracer("path_mats", 1024)};
     return scene;
@@ -459,6 +478,8 @@ AgreementScene lensCamera(bool realistic) {
     scene.regions = {{"centre", 8, 8, 16, 16}};
     scene.estimators = {pathTracer("path_mis", 256), pathTracer("path_ems", 256),
                         pathTracer("path_mats", 512)};
+    if (!realistic) // a realistic camera cannot be connected to
+        scene.estimators.push_back(lightTracer(256));
     return scene;
 }
 
@@ -516,6 +537,7 @@ std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXM
                     sphere("0.6, 0.5, 0", 0.5f, R"(<bsdf type="mirror"/>)");
     specular.regions = {
         {"floor", 0, 24, 32, 8}, {"glass", 4, 10, 10, 10}, {"mirror", 18, 10, 10, 10}};
+    specular.specularInView = true;
     scenes.push_back(specular);
 
     for (AgreementScene &scene : scenes)
