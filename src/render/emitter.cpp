@@ -67,7 +67,7 @@ Color3f Emitter::readIntensity(const PropertyList &props, const std::string &plu
     const bool hasPower = props.has("power"), hasIntensity = props.has("intensity");
     if (hasPower == hasIntensity)
         throw NoriException("{}: give exactly one of 'power' and 'intensity'", plugin);
-    const Color3f intensity =
+    Color3f intensity =
         hasPower ? Color3f(props.getColor("power") / solidAngle) : props.getColor("intensity");
     if ((intensity < 0.0f).any() || !intensity.allFinite())
         throw NoriException("{}: power and intensity must be finite and not negative", plugin);

@@ -117,7 +117,7 @@ Point2f FilterSampler::sample(const Point2f &u, float &sign, const Vector2f &low
 
 Point2f FilterSampler::sample(const Point2f &u, float &sign) const {
     float signX, signY;
-    const Point2f offset(sample1D(u.x(), signX), sample1D(u.y(), signY));
+    Point2f offset(sample1D(u.x(), signX), sample1D(u.y(), signY));
     sign = signX * signY;
     return offset;
 }
