@@ -63,6 +63,12 @@ Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const Emitte
 float adjointSampleFactor(const Intersection &its, const Vector3f &wi, const Vector3f &wo,
                           const BSDFQueryRecord &bRec);
 
+/// The light of every emitter at infinity (environment maps, constant backgrounds) that a
+/// ray leaving the scene sees, in full: after a camera ray or a chain of specular bounces,
+/// where no other strategy finds it. Filtered over the ray's footprint when it has
+/// differentials.
+Color3f lightAtInfinity(const Scene &scene, const Ray3f &ray);
+
 /// How long a path may grow: `maxDepth` scattering events after the camera ray (−1: no
 /// limit) and Russian roulette from event `rrDepth` on.
 struct PathDepth {

@@ -61,12 +61,8 @@ public:
     Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const override {
         (void)sampler;
         Intersection its;
-        if (!scene->rayIntersect(ray, its)) {
-            Color3f radiance(0.0f);
-            for (const Emitter *emitter : scene->getInfiniteEmitters())
-                radiance += emitter->eval(EmitterQueryRecord(ray, true));
-            return radiance;
-        }
+        if (!scene->rayIntersect(ray, its))
+            return lightAtInfinity(*scene, ray);
         if (const Emitter *emitter = its.shape->getEmitter())
             return emitter->eval(EmitterQueryRecord(ray.o, its));
         return Color3f(0.0f);

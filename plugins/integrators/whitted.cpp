@@ -24,13 +24,9 @@ public:
 
     Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const override {
         Intersection its;
-        if (!scene->rayIntersect(ray, its)) {
+        if (!scene->rayIntersect(ray, its))
             // Only camera rays and specular chains get here: lights at infinity count fully.
-            Color3f radiance(0.0f);
-            for (const Emitter *emitter : scene->getInfiniteEmitters())
-                radiance += emitter->eval(EmitterQueryRecord(ray, true));
-            return radiance;
-        }
+            return lightAtInfinity(*scene, ray);
         Color3f radiance(0.0f);
         if (const Emitter *emitter = its.shape->getEmitter())
             radiance += emitter->eval(EmitterQueryRecord(ray.o, its));

@@ -51,6 +51,13 @@ Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const Emitte
     return le * balanceHeuristic(scatterPdf, lightPdf);
 }
 
+Color3f lightAtInfinity(const Scene &scene, const Ray3f &ray) {
+    Color3f radiance(0.0f);
+    for (const Emitter *emitter : scene.getInfiniteEmitters())
+        radiance += emitter->eval(EmitterQueryRecord(ray, true));
+    return radiance;
+}
+
 float adjointSampleFactor(const Intersection &its, const Vector3f &wi, const Vector3f &wo,
                           const BSDFQueryRecord &bRec) {
     const float cosInGeometric = std::abs(wi.dot(its.geoFrame.n));

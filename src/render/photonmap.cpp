@@ -195,8 +195,7 @@ Color3f photonMappedRadiance(const Scene &scene, const PhotonMap &map, Sampler &
         Intersection its;
         if (!scene.rayIntersect(ray, its)) {
             // Only specular chains reach here: a filtered lookup of the environment.
-            for (const Emitter *emitter : scene.getInfiniteEmitters())
-                radiance += throughput * emitter->eval(EmitterQueryRecord(ray, true));
+            radiance += throughput * lightAtInfinity(scene, ray);
             break;
         }
         if (const Emitter *emitter = its.shape->getEmitter())
