@@ -105,26 +105,32 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
                     return false;
                 sampleSplats.clear();
                 const Sample sample = trace(sampler, pixel, index, surfaceAOVs);
-                if (!sample.value.isValid()) {
+                const bool valid = sample.value.isValid();
+                if (!valid)
                     ++invalidSamples;
-                    continue;
-                }
                 if (splatting) {
+                    // The sample counts in its pixel's weight whatever its values: the
+                    // weights divide the splats of every pixel's samples. An invalid
+                    // value, its own or a splat's, is dropped alone.
                     const bool even = index % 2 == 0;
-                    splats.push_back({sample.position, sample.value, even});
+                    if (valid)
+                        splats.push_back({sample.position, sample.value, even});
                     for (const Splat &splat : sampleSplats) {
                         if (splat.value.isValid())
                             splats.push_back({splat.position, splat.value, even});
                         else
                             ++invalidSamples;
                     }
+                } else if (!valid) {
+                    continue;
                 }
                 pass.put({sample.position, sample.value, index,
                           surfaceAOVs ? &sample.surface : nullptr,
                           importanceSampleFilter || splatting ? &pixel : nullptr, sample.filterSign,
                           splatting});
                 pass.countSample(x, y);
-                ++validSamples;
+                if (valid)
+                    ++validSamples;
             }
             if (!decisionSampler)
                 continue;
