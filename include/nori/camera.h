@@ -59,6 +59,16 @@ public:
         return false;
     }
 
+    /// The solid-angle density with which sampleRay, its film position uniform over the
+    /// image, sends a ray from `lensPoint` (world space, on the lens) along the unit
+    /// `direction`: 1/(A cos³θ) for a pinhole or thin lens (PBR 3rd ed., §16.1.1), zero
+    /// outside the image. What bdpt's MIS weights need of the camera; cameras that cannot
+    /// connect return 0.
+    virtual float pdfDirection(const Point3f &lensPoint, const Vector3f &direction) const {
+        (void)lensPoint, (void)direction;
+        return 0.0f;
+    }
+
     const Vector2i &getOutputSize() const { return m_outputSize; }
     const ReconstructionFilter *getReconstructionFilter() const { return m_rfilter.get(); }
     /// The medium the camera sits in (a <medium> child), or nullptr for vacuum.

@@ -65,9 +65,30 @@ struct SceneBoundingSphere {
     void placeBeyond(EmitterQueryRecord &lRec) const;
     /// A photon ray of light arriving from the direction `toLight`: its origin is a point
     /// of the disk of the sphere facing toLight (uniform by `sample`), one radius out,
-    /// so that it crosses the whole scene; the direction is −toLight. Returns the disk's
-    /// area, the photon's weight per unit of radiance over direction density.
-    float photonRayFrom(const Vector3f &toLight, const Point2f &sample, Ray3f &ray) const;
+    /// so that it crosses the whole scene; the direction is −toLight. Sets the ray, the
+    /// point and the position density of `emission` and returns the disk's area, the
+    /// photon's weight per unit of radiance over direction density.
+    float photonRayFrom(const Vector3f &toLight, const Point2f &sample,
+                        struct EmissionSample &emission) const;
+};
+
+/// The densities of a photon ray's origin and direction (Emitter::sampleEmission), with
+/// which bidirectional path tracing weighs its strategies (Veach 1997, §10.2).
+struct EmissionDensity {
+    /// Area density of the origin: per unit area of the light's surface, or of the disk of
+    /// the scene's bounding sphere for lights at infinity; 1 for a point (a delta).
+    float position = 0.0f;
+    /// Solid-angle density of the direction; 1 for a directional light (a delta).
+    float direction = 0.0f;
+};
+
+/// A photon ray leaving a light (Emitter::sampleEmission).
+struct EmissionSample {
+    Ray3f ray;  ///< the photon's ray (its origin moved past the surface's rounding)
+    Point3f p;  ///< the point it leaves from: on the light, or on the disk at infinity
+    Normal3f n; ///< the light's surface normal at p (area lights), else zero
+    EmissionDensity density;
+    EmissionSample() : p(0.0f, 0.0f, 0.0f), n(0.0f, 0.0f, 0.0f) {}
 };
 
 class Emitter : public NoriObject {
@@ -97,15 +118,30 @@ public:
     /// infinity and for plugins that give none: those are chosen beside the light tree.
     virtual std::optional<LightBounds> lightBounds() const { return std::nullopt; }
 
-    /// Samples a photon leaving the light (photon mapping): sets `ray` to its origin and
-    /// direction and returns its power weight Le·|cos θ|/(pdf_A·pdf_ω) (for a delta light
-    /// I(ω)/pdf_ω), whose mean over the samples is getPower(). `positionSample` picks
-    /// the point (on the surface, or on the disk a light at infinity crosses the scene's
-    /// bounding sphere through), `directionSample` the direction. Every light of the
-    /// project emits photons; a plugin that does not override this cannot be used by the
-    /// photon mappers, which then stop with an error naming it.
-    virtual Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
-                                 const Point2f &directionSample) const;
+    /// Samples a photon leaving the light (photon mapping, light tracing, BDPT): fills
+    /// `emission` (the ray, the point and normal it leaves from, the densities of both) and
+    /// returns its power weight Le·|cos θ|/(pdf_A·pdf_ω) (for a delta light I(ω)/pdf_ω),
+    /// whose mean over the samples is getPower(). `positionSample` picks the point (on the
+    /// surface, or on the disk a light at infinity crosses the scene's bounding sphere
+    /// through), `directionSample` the direction. Every light of the project emits
+    /// photons; a plugin that does not override this cannot be used by the photon mappers,
+    /// the light tracer or bdpt, which then stop with an error naming it.
+    virtual Color3f sampleEmission(EmissionSample &emission, const Point2f &positionSample,
+                                   const Point2f &directionSample) const;
+    /// sampleEmission's ray and weight alone.
+    Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
+                         const Point2f &directionSample) const;
+    /// The densities with which sampleEmission() emits from the point p (normal n, zero
+    /// for lights without a surface) along the unit `direction` (away from the light):
+    /// what bdpt's MIS weights need of a light vertex that it did not sample this way. For
+    /// lights at infinity p is not used. A plugin that overrides sampleEmission overrides
+    /// this too.
+    virtual EmissionDensity emissionDensity(const Point3f &p, const Normal3f &n,
+                                            const Vector3f &direction) const;
+    /// Whether the light lies at infinity: environments (isInfinite) and directional
+    /// lights, whose photons start on the disk of the scene's bounding sphere. Light
+    /// leaving them has the same density at any distance (bdpt's MIS weights).
+    virtual bool liesAtInfinity() const { return isInfinite(); }
 
     /// Tells the light the bounds of the scene it lights, before getPower() is asked:
     /// lights at infinity (directional, environment) need the scene's bounding sphere.
@@ -124,6 +160,10 @@ public:
     EClassType getClassType() const override { return kClassType; }
 
 protected:
+    /// emissionDensity() of a light at infinity whose photons cross the disk of `sphere`
+    /// and whose directions pdf() gives (for lRec.wi toward the light).
+    EmissionDensity densityAtInfinity(const SceneBoundingSphere &sphere,
+                                      const Vector3f &direction) const;
     /// Reads a delta light's `intensity` (W/sr) or `power` (W), exactly one of them, and
     /// returns the intensity: power / solidAngle, where solidAngle = ∫ of the light's
     /// angular profile over the sphere (4π for a point light).

@@ -4,8 +4,10 @@
 // (plugins/integrators/path.cpp is the one to read first).
 #pragma once
 
+#include <nori/camera.h>
 #include <nori/color.h>
 #include <nori/ray.h>
+#include <nori/shape.h>
 
 #include <functional>
 #include <string>
@@ -62,6 +64,34 @@ Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const Emitte
 /// §16.1.3). Zero where a direction grazes the geometric or shading surface.
 float adjointSampleFactor(const Intersection &its, const Vector3f &wi, const Vector3f &wo,
                           const BSDFQueryRecord &bRec);
+
+/// A surface point of a light path connected to the camera (light tracing; bdpt's t = 1
+/// strategies), made by connectToCamera.
+struct CameraLink {
+    CameraConnection camera;
+    /// Where the shape's textures are filtered over the pixel footprint: the hit of the
+    /// camera ray through camera.filmPosition, which shades the point (`traced` set).
+    Intersection seen;
+    bool traced = false;
+    /// The intersection to shade the connected point `its` with.
+    const Intersection &shading(const Intersection &its) const { return traced ? seen : its; }
+};
+
+/// Connects the surface point `its`, which light reaches from the world direction
+/// toLight, to a point of the camera's lens chosen by `lensSample`, and tests the
+/// visibility. Returns what a unit of flux arriving there adds to the film at
+/// link.camera.filmPosition: f·|ns·ωL|·|ng·ωC|/|ng·ωL| times the camera's importance
+/// (Veach 1997, §5.3: the flux crossed the geometric surface, the BSDF weighs it by the
+/// shading cosine, the camera sees the geometric projected area), zero when the camera
+/// does not see the point.
+Color3f connectToCamera(const Scene &scene, const Intersection &its, const Vector3f &toLight,
+                        const Point2f &lensSample, CameraLink &link);
+
+/// Checks that paths traced from the lights can reach the camera of `scene`: a camera that
+/// connect() supports and no participating media. Throws NoriException naming `plugin` and the offending object; `method`
+/// names the technique in the message ("light tracing").
+void requireLightPathScene(const Scene &scene, const std::string &plugin,
+                           const std::string &method);
 
 /// The light of every emitter at infinity (environment maps, constant backgrounds) that a
 /// ray leaving the scene sees, in full: after a camera ray or a chain of specular bounces,

@@ -79,38 +79,29 @@ public:
         // sampleRay's rays span).
         if (!(p.z() >= m_nearClip && p.z() <= m_farClip))
             return false;
-        // Where the ray from the lens point through p crosses the plane of focus (the
-        // plane z = 1 for a pinhole), and so which film position sampleRay would have
-        // sent along it.
-        const float focus = m_apertureRadius > 0.0f ? m_focalDistance : 1.0f;
-        const Point3f onFocus = lens + (p - lens) * (focus / p.z());
-        const float x = onFocus.x() / (focus * m_tanHalfFov);
-        const float y = onFocus.y() * m_aspect / (focus * m_tanHalfFov);
-        const float u = m_convention == Convention::EPFL ? 0.5f * (1.0f - x) : 0.5f * (x + 1.0f);
-        const float v = 0.5f * (1.0f - y);
-        if (!(u >= 0.0f && u < 1.0f && v >= 0.0f && v < 1.0f))
+        if (!filmPositionOf(lens, p, connection.filmPosition))
             return false;
-        connection.filmPosition = Point2f(u * static_cast<float>(m_outputSize.x()),
-                                          v * static_cast<float>(m_outputSize.y()));
-        if (!(connection.filmPosition.x() < static_cast<float>(m_outputSize.x()) &&
-              connection.filmPosition.y() < static_cast<float>(m_outputSize.y())))
-            return false; // u just below 1 rounded up to the width
-
         connection.lensPoint = m_cameraToWorld * lens;
         const Vector3f toLens = connection.lensPoint - reference;
         connection.distance = toLens.norm();
         if (!(connection.distance > 0.0f) || !std::isfinite(connection.distance))
             return false;
         connection.direction = toLens / connection.distance;
-        // The film spans [−tan(fov/2), tan(fov/2)] × [−tan(fov/2)/aspect, ...] at distance
-        // 1; a ray at angle θ to the axis sees dω = cos³θ dA of it, so the film's
-        // response per unit solid angle is 1/(A cos³θ), and per unit of the reference's
-        // projected area that over d². The lens area cancels against its sampling pdf.
-        const float cosTheta = (p - lens).normalized().z();
-        const float filmArea = 4.0f * m_tanHalfFov * m_tanHalfFov / m_aspect;
-        connection.importance = 1.0f / (filmArea * cosTheta * cosTheta * cosTheta *
-                                        connection.distance * connection.distance);
+        // The film's response per unit solid angle is the density of its directions,
+        // 1/(A cos³θ), and per unit of the reference's projected area that over d². The
+        // lens area cancels against its sampling pdf.
+        connection.importance = directionDensity((p - lens).normalized().z()) /
+                                (connection.distance * connection.distance);
         return std::isfinite(connection.importance);
+    }
+
+    float pdfDirection(const Point3f &lensPoint, const Vector3f &direction) const override {
+        const Point3f lens = m_worldToCamera * lensPoint;
+        const Vector3f d = Vector3f(m_worldToCamera * direction).normalized();
+        Point2f filmPosition;
+        if (!(d.z() > 0.0f) || !filmPositionOf(lens, lens + d, filmPosition))
+            return 0.0f;
+        return directionDensity(d.z());
     }
 
     Color3f sampleRay(Ray3f &ray, const Point2f &samplePosition,
@@ -150,6 +141,34 @@ public:
     }
 
 private:
+    /// Where the ray from the lens point through p (both camera space, p.z > 0) crosses
+    /// the plane of focus (the plane z = 1 for a pinhole), and so which film position
+    /// sampleRay would have sent along it. False outside the image.
+    bool filmPositionOf(const Point3f &lens, const Point3f &p, Point2f &filmPosition) const {
+        const float focus = m_apertureRadius > 0.0f ? m_focalDistance : 1.0f;
+        const Point3f onFocus = lens + (p - lens) * ((focus - lens.z()) / (p.z() - lens.z()));
+        const float x = onFocus.x() / (focus * m_tanHalfFov);
+        const float y = onFocus.y() * m_aspect / (focus * m_tanHalfFov);
+        const float u = m_convention == Convention::EPFL ? 0.5f * (1.0f - x) : 0.5f * (x + 1.0f);
+        const float v = 0.5f * (1.0f - y);
+        if (!(u >= 0.0f && u < 1.0f && v >= 0.0f && v < 1.0f))
+            return false;
+        filmPosition = Point2f(u * static_cast<float>(m_outputSize.x()),
+                               v * static_cast<float>(m_outputSize.y()));
+        // u just below 1 may round up to the width.
+        return filmPosition.x() < static_cast<float>(m_outputSize.x()) &&
+               filmPosition.y() < static_cast<float>(m_outputSize.y());
+    }
+
+    /// The film spans [−tan(fov/2), tan(fov/2)] × [−tan(fov/2)/aspect, ...] at distance 1
+    /// (for a thin lens: that film scaled to the plane of focus, seen from the lens point);
+    /// a ray at angle θ to the axis sees dω = cos³θ dA of it, so film positions uniform
+    /// over the image send directions with density 1/(A cos³θ) (PBR 3rd ed., §16.1.1).
+    float directionDensity(float cosTheta) const {
+        const float filmArea = 4.0f * m_tanHalfFov * m_tanHalfFov / m_aspect;
+        return 1.0f / (filmArea * cosTheta * cosTheta * cosTheta);
+    }
+
     /// The point of the lens (camera space) for an aperture sample: the centre for a
     /// pinhole, else uniform on the disk (concentric mapping).
     Point3f lensPoint(const Point2f &apertureSample) const {

@@ -83,13 +83,16 @@ public:
 
     // A point uniform by area (pdf_A = 1/A for meshes) and a cosine-weighted direction
     // about its normal (pdf_ω = cos θ/π): the weight Le·cos θ/(pdf_A·pdf_ω) = π·Le/pdf_A.
-    Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
-                         const Point2f &directionSample) const override {
+    Color3f sampleEmission(EmissionSample &emission, const Point2f &positionSample,
+                           const Point2f &directionSample) const override {
         const ShapeSample point = m_shape->sampleSurface(positionSample);
         if (point.pdf <= 0.0f)
             return Color3f(0.0f);
-        const Vector3f direction =
-            Frame(point.n).toWorld(Warp::squareToCosineHemisphere(directionSample));
+        const Vector3f local = Warp::squareToCosineHemisphere(directionSample);
+        const Vector3f direction = Frame(point.n).toWorld(local);
+        emission.p = point.p;
+        emission.n = point.n;
+        emission.density = {point.pdf, Warp::squareToCosineHemispherePdf(local)};
         EmitterQueryRecord lRec;
         lRec.p = point.p;
         lRec.n = point.n;
@@ -98,9 +101,14 @@ public:
         // bound it by the shape's extent (PBR 4th ed. §6.8.5) and leave past it.
         const BoundingBox3f &box = m_shape->getBoundingBox();
         const Vector3f pError = gammaBound(16) * box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs());
-        ray =
+        emission.ray =
             Ray3f(offsetRayOrigin(point.p, pError, point.n, direction), direction, 0.0f, kInfinity);
         return m_radiance->eval(lRec).max(0.0f) * (kPi / point.pdf);
+    }
+
+    EmissionDensity emissionDensity(const Point3f &, const Normal3f &n,
+                                    const Vector3f &direction) const override {
+        return {1.0f / m_shape->getArea(), std::max(0.0f, n.dot(direction)) * kInvPi};
     }
 
     // A Lambertian emitter radiates π·L per unit area; a texture by its uv average (exact

@@ -36,11 +36,17 @@ public:
 
     // A direction uniform over the sphere, then a point of the bounding sphere's disk
     // facing it: L·πr²/pdf_ω.
-    Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
-                         const Point2f &directionSample) const override {
+    Color3f sampleEmission(EmissionSample &emission, const Point2f &positionSample,
+                           const Point2f &directionSample) const override {
         const Vector3f toLight = Warp::squareToUniformSphere(directionSample);
-        return m_radiance * (m_scene.photonRayFrom(toLight, positionSample, ray) /
-                             Warp::squareToUniformSpherePdf(toLight));
+        emission.density.direction = Warp::squareToUniformSpherePdf(toLight);
+        return m_radiance * (m_scene.photonRayFrom(toLight, positionSample, emission) /
+                             emission.density.direction);
+    }
+
+    EmissionDensity emissionDensity(const Point3f &, const Normal3f &,
+                                    const Vector3f &direction) const override {
+        return densityAtInfinity(m_scene, direction);
     }
 
     Color3f eval(const EmitterQueryRecord &) const override { return m_radiance; }

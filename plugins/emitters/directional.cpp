@@ -43,10 +43,19 @@ public:
 
     // Photons cross the disk of the scene's bounding sphere facing the light, uniformly:
     // each carries E·πr².
-    Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
-                         const Point2f &) const override {
-        return m_irradiance * m_scene.photonRayFrom(m_toLight, positionSample, ray);
+    Color3f sampleEmission(EmissionSample &emission, const Point2f &positionSample,
+                           const Point2f &) const override {
+        const float diskArea = m_scene.photonRayFrom(m_toLight, positionSample, emission);
+        emission.density.direction = 1.0f; // a delta distribution in direction
+        return m_irradiance * diskArea;
     }
+
+    EmissionDensity emissionDensity(const Point3f &, const Normal3f &,
+                                    const Vector3f &) const override {
+        return {1.0f / m_scene.diskArea(), 1.0f};
+    }
+
+    bool liesAtInfinity() const override { return true; }
 
     Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }
     float pdf(const EmitterQueryRecord &) const override { return 0.0f; }

@@ -53,12 +53,18 @@ public:
         return lRec.pdf > 0.0f ? Color3f(m_radiance / lRec.pdf) : Color3f(0.0f);
     }
 
-    Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
-                         const Point2f &directionSample) const override {
+    Color3f sampleEmission(EmissionSample &emission, const Point2f &positionSample,
+                           const Point2f &directionSample) const override {
         const Vector3f local = Warp::squareToUniformSphereCap(directionSample, m_cosThetaA);
         const Vector3f toLight = Vector3f(m_toWorld * local).normalized();
-        return m_radiance * (m_scene.photonRayFrom(toLight, positionSample, ray) /
-                             Warp::squareToUniformSphereCapPdf(local, m_cosThetaA));
+        emission.density.direction = Warp::squareToUniformSphereCapPdf(local, m_cosThetaA);
+        return m_radiance * (m_scene.photonRayFrom(toLight, positionSample, emission) /
+                             emission.density.direction);
+    }
+
+    EmissionDensity emissionDensity(const Point3f &, const Normal3f &,
+                                    const Vector3f &direction) const override {
+        return densityAtInfinity(m_scene, direction);
     }
 
     Color3f eval(const EmitterQueryRecord &lRec) const override {

@@ -106,13 +106,19 @@ public:
 
     // A direction from the map's own density (by luminance), then a point of the bounding
     // sphere's disk facing it: L(ω)·πr²/pdf_ω.
-    Color3f samplePhoton(Ray3f &ray, const Point2f &positionSample,
-                         const Point2f &directionSample) const override {
+    Color3f sampleEmission(EmissionSample &emission, const Point2f &positionSample,
+                           const Point2f &directionSample) const override {
         EmitterQueryRecord lRec(m_scene.center);
         Color3f radianceOverPdf = sample(lRec, directionSample);
         if ((radianceOverPdf == 0.0f).all())
             return radianceOverPdf;
-        return radianceOverPdf * m_scene.photonRayFrom(lRec.wi, positionSample, ray);
+        emission.density.direction = lRec.pdf;
+        return radianceOverPdf * m_scene.photonRayFrom(lRec.wi, positionSample, emission);
+    }
+
+    EmissionDensity emissionDensity(const Point3f &, const Normal3f &,
+                                    const Vector3f &direction) const override {
+        return densityAtInfinity(m_scene, direction);
     }
 
     Color3f eval(const EmitterQueryRecord &lRec) const override {

@@ -30,10 +30,18 @@ public:
     }
 
     // Directions uniform over the sphere (pdf 1/4π): every photon carries 4π·I.
-    Color3f samplePhoton(Ray3f &ray, const Point2f &,
-                         const Point2f &directionSample) const override {
-        ray = Ray3f(m_position, Warp::squareToUniformSphere(directionSample), 0.0f, kInfinity);
+    Color3f sampleEmission(EmissionSample &emission, const Point2f &,
+                           const Point2f &directionSample) const override {
+        const Vector3f direction = Warp::squareToUniformSphere(directionSample);
+        emission.ray = Ray3f(m_position, direction, 0.0f, kInfinity);
+        emission.p = m_position;
+        emission.density = emissionDensity(m_position, emission.n, direction);
         return m_intensity * (4.0f * kPi);
+    }
+
+    EmissionDensity emissionDensity(const Point3f &, const Normal3f &,
+                                    const Vector3f &direction) const override {
+        return {1.0f, Warp::squareToUniformSpherePdf(direction)};
     }
 
     Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }

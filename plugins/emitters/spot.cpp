@@ -104,12 +104,21 @@ public:
 
     // Directions drawn in proportion to the intensity (sampleFalloff): every photon
     // carries the power, I·falloff/pdf_ω = I·solidAngle.
-    Color3f samplePhoton(Ray3f &ray, const Point2f &,
-                         const Point2f &directionSample) const override {
+    Color3f sampleEmission(EmissionSample &emission, const Point2f &,
+                           const Point2f &directionSample) const override {
         const float cosTheta = sampleFalloff(directionSample.x());
         const Vector3f local = Warp::sphericalDirection(cosTheta, 2.0f * kPi * directionSample.y());
-        ray = Ray3f(m_position, Frame(m_axis).toWorld(local), 0.0f, kInfinity);
+        const Vector3f direction = Frame(m_axis).toWorld(local);
+        emission.ray = Ray3f(m_position, direction, 0.0f, kInfinity);
+        emission.p = m_position;
+        emission.density = emissionDensity(m_position, emission.n, direction);
         return getPower();
+    }
+
+    // The density of sampleFalloff's directions: falloff/solidAngle.
+    EmissionDensity emissionDensity(const Point3f &, const Normal3f &,
+                                    const Vector3f &direction) const override {
+        return {1.0f, falloff(m_axis.dot(direction)) / solidAngle()};
     }
 
     Color3f eval(const EmitterQueryRecord &) const override { return Color3f(0.0f); }

@@ -20,14 +20,10 @@
  *   <integrator type="lighttracer"><integer name="maxDepth" value="4"/></integrator>
  */
 #include <nori/bsdf.h>
-#include <nori/camera.h>
 #include <nori/emitter.h>
 #include <nori/pathtracing.h>
 #include <nori/sampler.h>
 #include <nori/scene.h>
-#include <nori/shading.h>
-
-#include <algorithm>
 
 namespace nori {
 namespace {
@@ -38,18 +34,7 @@ public:
         : m_depth(PathDepth::read(props, "lighttracer")) {}
 
     void preprocess(const Scene *scene) override {
-        const Camera *camera = scene->getCamera();
-        if (!camera->canConnect())
-            throw NoriException("lighttracer: the camera '{}' cannot be connected to from the "
-                                "scene (its rays pass a lens system); use perspective or "
-                                "thinlens",
-                                camera->pluginName());
-        const auto &shapes = scene->getShapes();
-        if (camera->getMedium() || std::any_of(shapes.begin(), shapes.end(), [](const auto &shape) {
-                return shape->hasMediumInterface();
-            }))
-            throw NoriException("lighttracer: the scene has participating media, which light "
-                                "tracing does not render; use volpath");
+        requireLightPathScene(*scene, "lighttracer", "light tracing");
     }
 
     bool splats() const override { return true; }
@@ -113,8 +98,13 @@ private:
             if (!its.sidesAgree(toLight))
                 return;
             const BSDF &bsdf = *its.shape->getBSDF();
-            if (m_depth.mayScatter(events - 1))
-                connectToCamera(scene, its, toLight, power * throughput, lensSample, splats);
+            if (m_depth.mayScatter(events - 1)) {
+                CameraLink link;
+                const Color3f value =
+                    power * throughput * connectToCamera(scene, its, toLight, lensSample, link);
+                if (!(value == 0.0f).all())
+                    splats.push_back({link.camera.filmPosition, value});
+            }
             if (!m_depth.mayScatter(events))
                 return;
 
@@ -133,54 +123,6 @@ private:
             ray = its.spawnRay(wo);
         }
     }
-
-    /// Splats the light that `flux`, arriving at `its` from toLight, sends to the camera.
-    static void connectToCamera(const Scene &scene, const Intersection &its,
-                                const Vector3f &toLight, const Color3f &flux,
-                                const Point2f &lensSample, std::vector<Splat> &splats) {
-        CameraConnection camera;
-        if (!scene.getCamera()->connect(its.p, lensSample, camera))
-            return;
-        // Where the shape's textures are filtered over the pixel footprint, the point is
-        // shaded as the camera ray through that pixel shades it, with that ray's
-        // differentials (raydifferential.h), so that the camera and the light paths see
-        // the same surface (a filtered normal map is not the mean of its normals). That
-        // ray also tests the visibility: it must find this point again.
-        Intersection seen;
-        const Intersection *shading = &its;
-        if (usesFootprint(*its.shape)) {
-            Ray3f cameraRay;
-            if ((scene.sampleCameraRay(cameraRay, camera.filmPosition, lensSample) == 0.0f).all() ||
-                !scene.rayIntersect(cameraRay, seen) || seen.shape != its.shape ||
-                (seen.p - its.p).norm() > kSamePoint * camera.distance || !seen.sidesAgree(toLight))
-                return;
-            shading = &seen;
-        }
-        // f for light arriving along toLight and leaving toward the camera: in the
-        // BSDF's convention wi is the direction toward the camera.
-        const BSDFQueryRecord query(*shading, shading->toLocal(camera.direction),
-                                    shading->toLocal(toLight), ESolidAngle);
-        const Color3f f = shading->shape->getBSDF()->eval(query);
-        const float cosLightGeometric = std::abs(toLight.dot(its.geoFrame.n));
-        if ((f == 0.0f).all() || cosLightGeometric == 0.0f)
-            return;
-        // The particle's flux crossed the geometric surface; the BSDF weighs the light by
-        // the shading cosine, and the camera sees the point's geometric projected area
-        // (Veach 1997, §5.3: radiance = flux·f·|ωL·ns|/|ωL·ng| per projected area).
-        const Color3f value = flux * f * std::abs(Frame::cosTheta(query.wo)) *
-                              std::abs(camera.direction.dot(its.geoFrame.n)) / cosLightGeometric *
-                              camera.importance;
-        if ((value == 0.0f).all())
-            return;
-        if (shading == &its && scene.rayIntersect(its.spawnRayTo(camera.lensPoint)))
-            return;
-        splats.push_back({camera.filmPosition, value});
-    }
-
-    /// How far (relative to its distance from the lens) the camera ray's hit may lie from
-    /// the point it was aimed at and still be that point: the film position's rounding
-    /// moves it by about 1e-7 of the distance.
-    static constexpr float kSamePoint = 1e-4f;
 
     PathDepth m_depth;
 };

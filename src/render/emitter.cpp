@@ -33,19 +33,42 @@ void SceneBoundingSphere::placeBeyond(EmitterQueryRecord &lRec) const {
 }
 
 float SceneBoundingSphere::photonRayFrom(const Vector3f &toLight, const Point2f &sample,
-                                         Ray3f &ray) const {
+                                         EmissionSample &emission) const {
     const Frame frame(toLight);
     const Point2f disk = radius * Warp::squareToUniformDiskConcentric(sample);
-    const Point3f origin = center + radius * toLight + disk.x() * frame.s + disk.y() * frame.t;
-    ray = Ray3f(origin, -toLight, 0.0f, kInfinity);
+    emission.p = center + radius * toLight + disk.x() * frame.s + disk.y() * frame.t;
+    emission.ray = Ray3f(emission.p, -toLight, 0.0f, kInfinity);
+    emission.density.position = 1.0f / diskArea();
     return diskArea();
 }
 
-Color3f Emitter::samplePhoton(Ray3f &, const Point2f &, const Point2f &) const {
-    throw NoriException(
-        "{} cannot emit photons (its plugin does not override "
-        "Emitter::samplePhoton), so the photon mappers and the light tracer cannot use it",
-        toString());
+Color3f Emitter::sampleEmission(EmissionSample &, const Point2f &, const Point2f &) const {
+    throw NoriException("{} cannot emit photons (its plugin does not override "
+                        "Emitter::sampleEmission), so the photon mappers, the light tracer "
+                        "and bdpt cannot use it",
+                        toString());
+}
+
+EmissionDensity Emitter::emissionDensity(const Point3f &, const Normal3f &,
+                                         const Vector3f &) const {
+    throw NoriException("{} cannot give the density of its photons (its plugin does not "
+                        "override Emitter::emissionDensity), so bdpt cannot use it",
+                        toString());
+}
+
+Color3f Emitter::samplePhoton(Ray3f &ray, const Point2f &positionSample,
+                              const Point2f &directionSample) const {
+    EmissionSample emission;
+    const Color3f weight = sampleEmission(emission, positionSample, directionSample);
+    ray = emission.ray;
+    return weight;
+}
+
+EmissionDensity Emitter::densityAtInfinity(const SceneBoundingSphere &sphere,
+                                           const Vector3f &direction) const {
+    EmitterQueryRecord lRec;
+    lRec.wi = -direction;
+    return {1.0f / sphere.diskArea(), pdf(lRec)};
 }
 
 float Emitter::aimAtPoint(EmitterQueryRecord &lRec, const Point3f &position) {

@@ -2,6 +2,9 @@
 #include <nori/emitter.h>
 #include <nori/pathtracing.h>
 #include <nori/scene.h>
+#include <nori/shading.h>
+
+#include <algorithm>
 
 namespace nori {
 
@@ -49,6 +52,62 @@ Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const Emitte
         return le;
     const float lightPdf = scene->emitterPmf(lRec.ref, refNormal, &emitter) * emitter.pdf(lRec);
     return le * balanceHeuristic(scatterPdf, lightPdf);
+}
+
+Color3f connectToCamera(const Scene &scene, const Intersection &its, const Vector3f &toLight,
+                        const Point2f &lensSample, CameraLink &link) {
+    CameraConnection &camera = link.camera;
+    if (!scene.getCamera()->connect(its.p, lensSample, camera))
+        return Color3f(0.0f);
+    // Where the shape's textures are filtered over the pixel footprint, the point is
+    // shaded as the camera ray through that pixel shades it, with that ray's
+    // differentials (raydifferential.h), so that the camera and the light paths see the
+    // same surface (a filtered normal map is not the mean of its normals). That ray also
+    // tests the visibility: it must find this point again, to within kSamePoint of its
+    // distance from the lens (the film position's rounding moves it by about 1e-7).
+    constexpr float kSamePoint = 1e-4f;
+    if (usesFootprint(*its.shape)) {
+        Ray3f cameraRay;
+        if ((scene.sampleCameraRay(cameraRay, camera.filmPosition, lensSample) == 0.0f).all() ||
+            !scene.rayIntersect(cameraRay, link.seen) || link.seen.shape != its.shape ||
+            (link.seen.p - its.p).norm() > kSamePoint * camera.distance ||
+            !link.seen.sidesAgree(toLight))
+            return Color3f(0.0f);
+        link.traced = true;
+    }
+    const Intersection &shading = link.shading(its);
+    // f for light arriving along toLight and leaving toward the camera: in the BSDF's
+    // convention wi is the direction toward the camera.
+    const BSDFQueryRecord query(shading, shading.toLocal(camera.direction),
+                                shading.toLocal(toLight), ESolidAngle);
+    const Color3f f = shading.shape->getBSDF()->eval(query);
+    const float cosLightGeometric = std::abs(toLight.dot(its.geoFrame.n));
+    if ((f == 0.0f).all() || cosLightGeometric == 0.0f)
+        return Color3f(0.0f);
+    // Radiance = flux·f·|ωL·ns|/|ωL·ng| per projected area (Veach 1997, §5.3).
+    const Color3f response = f * std::abs(Frame::cosTheta(query.wo)) *
+                             std::abs(camera.direction.dot(its.geoFrame.n)) / cosLightGeometric *
+                             camera.importance;
+    if ((response == 0.0f).all() ||
+        (!link.traced && scene.rayIntersect(its.spawnRayTo(camera.lensPoint))))
+        return Color3f(0.0f);
+    return response;
+}
+
+void requireLightPathScene(const Scene &scene, const std::string &plugin,
+                           const std::string &method) {
+    const Camera *camera = scene.getCamera();
+    if (!camera->canConnect())
+        throw NoriException("{}: the camera '{}' cannot be connected to from the scene (its "
+                            "rays pass a lens system); use perspective or thinlens",
+                            plugin, camera->pluginName());
+    const auto &shapes = scene.getShapes();
+    if (camera->getMedium() || std::any_of(shapes.begin(), shapes.end(), [](const auto &shape) {
+            return shape->hasMediumInterface();
+        }))
+        throw NoriException("{}: the scene has participating media, which {} does not "
+                            "render; use volpath",
+                            plugin, method);
 }
 
 Color3f lightAtInfinity(const Scene &scene, const Ray3f &ray) {
