@@ -179,6 +179,12 @@ Estimator lightTracer(size_t spp, const std::string &params = "") {
             spp,           ""};
 }
 
+Estimator bidirectional(size_t spp, const std::string &params = "") {
+    return {"bdpt",        fmt::format(R"(<integrator type="bdpt">{}</integrator>)", params),
+            "independent", "",
+            spp,           ""};
+}
+
 Estimator progressivePhotons(size_t spp, int photons) {
     return {"sppm",
             fmt::format(R"(<integrator type="progressivephotonmapper">
@@ -226,7 +232,8 @@ AgreementScene cornellBox() {
                         sampler("stratified", 512),
                         adaptive(768),
                         progressivePhotons(64, 20000),
-                        lightTracer(512)};
+                        lightTracer(512),
+                        bidirectional(256)};
     return scene;
 }
 
@@ -259,8 +266,12 @@ AgreementScene glossyPlates() {
                          radii[i], areaLight(fmt::format("{}", 0.4f / (radii[i] * radii[i]))));
     scene.body = perspective("0, 0.6, 3.2", "0, -0.4, 0", 45, 32) + plates + lights;
     scene.regions = {{"highlights", 2, 14, 28, 6}, {"upper", 2, 8, 28, 5}};
-    scene.estimators = {pathTracer("path_mis", 1024), pathTracer("path_ems", 1024),
-                        pathTracer("path_mats", 4096), sampler("sobol", 1024), lightTracer(1024)};
+    scene.estimators = {pathTracer("path_mis", 1024),
+                        pathTracer("path_ems", 1024),
+                        pathTracer("path_mats", 4096),
+                        sampler("sobol", 1024),
+                        lightTracer(1024),
+                        bidirectional(512)};
     scene.estimators[2].powerExemption =
         "BSDF sampling rarely finds the smallest light (radius 0.03) from the sharpest plates: "
         "0.5 % would take far more samples than a test has";
@@ -287,7 +298,8 @@ AgreementScene skyWithSun() {
                      {"caustic", 18, 16, 4, 3},
                      {"floor", 0, 24, 32, 8}};
     scene.estimators = {pathTracer("path_mis", 512), pathTracer("path_ems", 512),
-                        pathTracer("path_mats", 2048), progressivePhotons(64, 20000)};
+                        pathTracer("path_mats", 2048), progressivePhotons(64, 20000),
+                        bidirectional(256)};
     scene.estimators[2].powerExemption =
         "BSDF sampling rarely finds the sun (9 texels of the 64x32 map): 0.5 % would take "
         "far more samples than a test has (issue 42 estimates 5e8)";
@@ -315,7 +327,8 @@ AgreementScene deltaLights() {
                         pathTracer("direct_ems", 512),
                         pathTracer("whitted", 512),
                         pathTracer("direct", 512),
-                        lightTracer(512, depth1)};
+                        lightTracer(512, depth1),
+                        bidirectional(256, depth1)};
     return scene;
 }
 
@@ -335,8 +348,12 @@ AgreementScene texturedPlane() {
                      <texture type="image" name="normal"><string name="filename" value="normal.exr"/></texture>)") +
                  mesh("light.obj", diffuse("0") + areaLight("4"));
     scene.regions = {{"centre", 8, 8, 16, 16}};
-    scene.estimators = {pathTracer("path_mis", 256), pathTracer("path_ems", 256),
-                        pathTracer("path_mats", 512), sampler("sobol", 256), lightTracer(256)};
+    scene.estimators = {pathTracer("path_mis", 256),
+                        pathTracer("path_ems", 256),
+                        pathTracer("path_mats", 512),
+                        sampler("sobol", 256),
+                        lightTracer(256),
+                        bidirectional(128)};
     return scene;
 }
 
@@ -408,7 +425,7 @@ AgreementScene instances() {
                                      R"(<boolean name="visible" value="false"/>)" + copies);
     scene.regions = {{"centre", 10, 10, 12, 12}};
     scene.estimators = {pathTracer("path_mis", 256), pathTracer("path_ems", 256),
-                        pathTracer("path_mats", 512), lightTracer(256)};
+                        pathTracer("path_mats", 512), lightTracer(256), bidirectional(128)};
     return scene;
 }
 
@@ -441,7 +458,7 @@ AgreementScene disney() {
     // and −0.62 at 512 spp with seeds 2 and 3 (nori-agreement --scene disney --estimator
     // path_mis --estimator lighttracer [--soak] --seed S, with lightTracer(512) added).
     scene.estimators = {pathTracer("path_mis", 512), pathTracer("path_ems", 512),
-                        pathTracer("path_mats", 1024)};
+                        pathTracer("path_mats", 1024), bidirectional(256)};
     return scene;
 }
 
@@ -480,6 +497,8 @@ AgreementScene lensCamera(bool realistic) {
                         pathTracer("path_mats", 512)};
     if (!realistic) // a realistic camera cannot be connected to
         scene.estimators.push_back(lightTracer(256));
+    if (!realistic)
+        scene.estimators.push_back(bidirectional(128));
     return scene;
 }
 
