@@ -512,3 +512,40 @@ TEST_CASE("BDPT says what it cannot render", "[bdpt]") {
                Catch::Contains("bdpt") && Catch::Contains("'heuristic'") &&
                    Catch::Contains("cubic"));
 }
+
+TEST_CASE("BDPT's strategies debug view: a layer per strategy, summing to the image",
+          "[bdpt][render]") {
+    // Veach 1997, figure 10.3: each (s, t) weighted and unweighted; the weighted layers of
+    // all strategies add up to the image (here every path has at most 2 events).
+    const auto scene = std::dynamic_pointer_cast<Scene>(loadScene(
+        R"(<scene><integrator type="bdpt"><boolean name="strategies" value="true"/>
+            <integer name="maxDepth" value="2"/></integrator>
+        <sampler type="independent"><integer name="sampleCount" value="4"/></sampler>
+        <camera type="perspective"><float name="fov" value="39"/>
+            <integer name="width" value="24"/><integer name="height" value="24"/>
+            <transform name="toWorld"><lookat origin="0, 1, 3.85" target="0, 1, 0" up="0, 1, 0"/>
+            </transform></camera>
+        <mesh type="obj"><string name="filename" value="meshes/floor.obj"/><bsdf type="diffuse"/></mesh>
+        <mesh type="obj"><string name="filename" value="meshes/back.obj"/><bsdf type="diffuse"/></mesh>
+        <mesh type="obj"><string name="filename" value="meshes/light.obj"/>
+            <emitter type="area"><color name="radiance" value="10"/></emitter></mesh>
+        <mesh type="sphere"><point name="center" value="0.45, 0.35, 0.3"/>
+            <float name="radius" value="0.35"/><bsdf type="dielectric"/></mesh></scene>)",
+        std::string(NORI_SOURCE_DIR) + "/scenes/cbox"));
+    const RenderResult result = renderScene(*scene, quietOptions(2));
+    const std::vector<std::string> expected = {"s0t2", "s0t3", "s1t2", "s2t1",
+                                               "s0t4", "s1t3", "s2t2", "s3t1"};
+    const auto &channels = result.layers.channels();
+    LayeredImage::Channel sum = LayeredImage::Channel::Zero(24, 24);
+    for (const std::string &strategy : expected) {
+        INFO(strategy);
+        REQUIRE(channels.count(strategy + ".G") == 1);
+        REQUIRE(channels.count(strategy + ".unweighted.G") == 1);
+        sum += channels.at(strategy + ".G");
+    }
+    CHECK(channels.count("s1t1.G") == 0);
+    CHECK(channels.count("s0t5.G") == 0);
+    const LayeredImage::Channel &image = channels.at("G");
+    CHECK(image.maxCoeff() > 0.0f);
+    CHECK((sum - image).abs().maxCoeff() <= 1e-4f * image.maxCoeff());
+}

@@ -125,8 +125,11 @@ public:
     /// too large for memory fails before rendering, not after.
     /// `splatting`: the integrator splats (Integrator::splats), and the film keeps a
     /// SplatBuffer for it.
+    /// `splatLayers`: the names of an integrator's extra layers of splats
+    /// (Integrator::splatLayers), written after the image.
     Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector<AOV> aovs,
-         bool adaptive, bool splatting = false, int blockSize = 32);
+         bool adaptive, bool splatting = false, int blockSize = 32,
+         std::vector<std::string> splatLayers = {});
 
     const Vector2i &size() const { return m_size; }
     const std::vector<AOV> &aovs() const { return m_aovs; }
@@ -167,6 +170,7 @@ private:
     std::vector<AOV> m_aovs;
     bool m_pixelStatistics;
     std::vector<std::unique_ptr<FilmBlock>> m_blocks;
+    std::vector<std::string> m_splatLayers;
     std::unique_ptr<SplatBuffer> m_splats; ///< only for an integrator that splats
     mutable ImageBlock m_merged;
 };

@@ -21,6 +21,12 @@ class Sampler;
 struct Splat {
     Point2f position; ///< film position in pixels, from the top-left corner
     Color3f value;
+    /// 0: the image; k ≥ 1: the integrator's k-th extra layer (Integrator::splatLayers),
+    /// reconstructed the same way, a debug view such as BDPT's strategies.
+    int layer = 0;
+    /// Lands at the sample's own film position (`position` is not used), with the camera
+    /// ray's weight applied: a layer's share of the sample's own light.
+    bool atSample = false;
 };
 
 class Integrator : public NoriObject {
@@ -44,6 +50,9 @@ public:
         return Li(scene, sampler, ray);
     }
 
+    /// The names of the extra EXR layers (channels R, G, B) that an integrator that splats
+    /// fills with splats of layer 1, 2, ... (Splat::layer); none by default.
+    virtual std::vector<std::string> splatLayers() const { return {}; }
     /// Whether the integrator renders what the camera sees only through delta BSDFs
     /// (mirrors, smooth glass, and what is seen in them). A light tracer cannot: such
     /// paths have no vertex it can connect to the lens. `nori --test-plugin` leaves out

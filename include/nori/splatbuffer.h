@@ -20,11 +20,14 @@ public:
         Point2f position;
         Color3f value;
         bool evenSample = false;
+        int layer = 0; ///< 0: the image; k ≥ 1: extra layer k (Splat::layer)
     };
 
     /// A buffer for an image of `size` pixels reconstructed with `filter` (nullptr: the
-    /// box of radius 1/2); `evenHalf`: also sum the even samples' splats.
-    SplatBuffer(const Vector2i &size, const ReconstructionFilter *filter, bool evenHalf);
+    /// box of radius 1/2); `evenHalf`: also sum the even samples' splats; `extraLayers`:
+    /// sums for that many extra layers (no even half).
+    SplatBuffer(const Vector2i &size, const ReconstructionFilter *filter, bool evenHalf,
+                int extraLayers = 0);
 
     /// Adds a pass's splats, list after list and each list in order, so that every pixel
     /// sums the same values in the same order for any thread count. Bands of rows are
@@ -35,6 +38,10 @@ public:
     const Color3f &sum(int x, int y) const { return m_sum(y, x); }
     const Color3f &evenSum(int x, int y) const { return m_evenSum(y, x); }
     bool hasEvenHalf() const { return m_evenSum.size() > 0; }
+    /// Σ value·f/F at pixel (x, y) over the splats of extra layer k ≥ 1.
+    const Color3f &layerSum(int k, int x, int y) const {
+        return m_layerSums[static_cast<size_t>(k - 1)](y, x);
+    }
 
 private:
     /// Adds `record` to the pixels of rows [rowBegin, rowEnd) that the filter reaches.
@@ -45,6 +52,7 @@ private:
     /// 1/F_j = 1/(Fx(x)·Fy(y)): the filter is separable, and so is its integral.
     std::vector<float> m_inverseCoverageX, m_inverseCoverageY;
     Bitmap m_sum, m_evenSum;
+    std::vector<Bitmap> m_layerSums;
 };
 
 } // namespace nori

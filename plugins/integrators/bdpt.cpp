@@ -18,7 +18,8 @@
  *   heuristic   string   "power"  MIS heuristic: "power" (exponent 2) or "balance"
  *   strategies  boolean  false    also write each strategy's image, weighted and not, as
  *                                 EXR layers s<s>t<t> and s<s>t<t>.unweighted (Veach's
- *                                 figure 10.3); up to maxDepth 5, all paths if unbounded
+ *                                 figure 10.3), for paths of up to 5 scattering events
+ *                                 (maxDepth if smaller)
  *
  *   <integrator type="bdpt"/>
  *
@@ -30,6 +31,8 @@
 #include <nori/emitter.h>
 #include <nori/sampler.h>
 #include <nori/scene.h>
+
+#include <map>
 
 namespace nori {
 namespace {
@@ -46,12 +49,32 @@ MISHeuristic readHeuristic(const PropertyList &props) {
 class BDPTIntegrator : public Integrator {
 public:
     explicit BDPTIntegrator(const PropertyList &props)
-        : m_paths(PathDepth::read(props, "bdpt"), readHeuristic(props)) {}
+        : m_paths(PathDepth::read(props, "bdpt"), readHeuristic(props)) {
+        if (props.getBoolean("strategies", false)) {
+            // The debug view's layers: every strategy of paths of up to 5 events, by
+            // length, then by s (Veach 1997, figure 10.3).
+            const int longest = m_paths.depth().maxDepth < 0
+                                    ? kLongestStrategyPath
+                                    : std::min(m_paths.depth().maxDepth, kLongestStrategyPath);
+            for (int events = 0; events <= longest; ++events)
+                for (int s = 0; s <= events + 1; ++s) {
+                    const int t = events + 2 - s;
+                    if (!m_paths.allowed(s, t))
+                        continue;
+                    m_layerOf[{s, t}] = static_cast<int>(m_layerNames.size()) + 1;
+                    m_layerNames.push_back(fmt::format("s{}t{}", s, t));
+                    m_layerNames.push_back(fmt::format("s{}t{}.unweighted", s, t));
+                }
+        }
+    }
 
     void preprocess(const Scene *scene) override { BidirectionalPaths::validate(*scene, "bdpt"); }
 
     bool splats() const override { return true; }
+    std::vector<std::string> splatLayers() const override { return m_layerNames; }
 
+    /// The strategies whose light lands on the camera ray's own pixel; those of t = 1 land
+    /// anywhere, as splats (LiAndSplats, which the render loop calls).
     Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const override {
         std::vector<Splat> splats;
         return m_paths.estimate(*scene, *sampler, ray, splats);
@@ -59,17 +82,39 @@ public:
 
     Color3f LiAndSplats(const Scene *scene, Sampler *sampler, const Ray3f &ray,
                         std::vector<Splat> &splats) const override {
-        return m_paths.estimate(*scene, *sampler, ray, splats);
+        if (m_layerOf.empty())
+            return m_paths.estimate(*scene, *sampler, ray, splats);
+        // The debug view: each strategy's light, weighted and not, as splats of its layers.
+        std::vector<Splat> layers;
+        const Color3f radiance =
+            m_paths.estimate(*scene, *sampler, ray, splats, [&](const StrategySample &strategy) {
+                const auto layer = m_layerOf.find({strategy.s, strategy.t});
+                if (layer == m_layerOf.end() || (strategy.unweighted == 0.0f).all())
+                    return;
+                const Color3f weighted = strategy.unweighted * strategy.weight;
+                layers.push_back({strategy.position, weighted, layer->second, !strategy.splat});
+                layers.push_back(
+                    {strategy.position, strategy.unweighted, layer->second + 1, !strategy.splat});
+            });
+        splats.insert(splats.end(), layers.begin(), layers.end());
+        return radiance;
     }
 
     std::string toString() const override {
-        return fmt::format("BDPT[maxDepth={}, rrDepth={}, heuristic={}]", m_paths.depth().maxDepth,
-                           m_paths.depth().rrDepth,
-                           m_paths.heuristic() == MISHeuristic::Power ? "power" : "balance");
+        return fmt::format("BDPT[maxDepth={}, rrDepth={}, heuristic={}, strategies={}]",
+                           m_paths.depth().maxDepth, m_paths.depth().rrDepth,
+                           m_paths.heuristic() == MISHeuristic::Power ? "power" : "balance",
+                           !m_layerOf.empty());
     }
 
 private:
+    /// The longest paths (in scattering events) whose strategies the debug view shows.
+    static constexpr int kLongestStrategyPath = 5;
+
     BidirectionalPaths m_paths;
+    std::vector<std::string> m_layerNames;
+    /// (s, t) → its weighted layer (Splat::layer); the unweighted one follows it.
+    std::map<std::pair<int, int>, int> m_layerOf;
 };
 
 NORI_REGISTER_CLASS(BDPTIntegrator, "bdpt");

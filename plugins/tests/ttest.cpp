@@ -139,7 +139,8 @@ private:
             // The image's mean (unfiltered) counts a sample's splats wherever they land
             // (see Splat: the film averages them over the samples of every pixel).
             for (const Splat &splat : splats)
-                value += splat.value;
+                if (splat.layer == 0) // not an integrator's debug layer
+                    value += splat.value;
             moments.add(value.getLuminance());
         }
         return studentTTest(moments.mean, moments.variance(), moments.count, reference, alpha);

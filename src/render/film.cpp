@@ -105,11 +105,11 @@ void FilmBlock::updateConvergence(size_t minSamples, float maxTolerance) {
 }
 
 Film::Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector<AOV> aovs,
-           bool adaptive, bool splatting, int blockSize)
+           bool adaptive, bool splatting, int blockSize, std::vector<std::string> splatLayers)
     : m_size(size), m_filter(filter), m_aovs(std::move(aovs)),
       m_pixelStatistics(adaptive ||
                         std::find(m_aovs.begin(), m_aovs.end(), AOV::SampleCount) != m_aovs.end()),
-      m_merged(size, filter) {
+      m_splatLayers(std::move(splatLayers)), m_merged(size, filter) {
     for (int y = 0; y < size.y(); y += blockSize)
         for (int x = 0; x < size.x(); x += blockSize)
             m_blocks.push_back(std::make_unique<FilmBlock>(
@@ -118,7 +118,8 @@ Film::Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector
                 filter, m_aovs, m_pixelStatistics));
     if (splatting)
         m_splats = std::make_unique<SplatBuffer>(
-            size, filter, std::find(m_aovs.begin(), m_aovs.end(), AOV::Variance) != m_aovs.end());
+            size, filter, std::find(m_aovs.begin(), m_aovs.end(), AOV::Variance) != m_aovs.end(),
+            static_cast<int>(m_splatLayers.size()));
 }
 
 void Film::addSplats(const std::vector<std::vector<SplatBuffer::Record>> &lists) {
@@ -178,6 +179,20 @@ LayeredImage Film::develop(bool withWeights) const {
     LayeredImage result(m_size);
     const ImageBlock &beauty = merge(FilmBlock::kBeauty);
     result.addLayer("", {"R", "G", "B"}, beauty.toBitmap());
+    if (m_splats) {
+        // The integrator's extra layers (Integrator::splatLayers): their splat sums over
+        // the weights of the pixels' own samples, as the image's (before `beauty` is reused).
+        const LayeredImage::Channel weights = filterWeights(beauty);
+        for (size_t k = 0; k < m_splatLayers.size(); ++k) {
+            Bitmap values(m_size);
+            for (int y = 0; y < m_size.y(); ++y)
+                for (int x = 0; x < m_size.x(); ++x)
+                    if (weights(y, x) != 0.0f)
+                        values(y, x) =
+                            m_splats->layerSum(static_cast<int>(k) + 1, x, y) / weights(y, x);
+            result.addLayer(m_splatLayers[k], {"R", "G", "B"}, values);
+        }
+    }
     const bool variance = std::find(m_aovs.begin(), m_aovs.end(), AOV::Variance) != m_aovs.end();
     if (withWeights || variance)
         result.addChannel(kWeightChannel, filterWeights(beauty));

@@ -86,10 +86,17 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
         if (aovs && traced)
             sample.surface = traceSurfaceAOVs(
                 scene, ray, hashValues(generator.getSeed(), pixel.x(), pixel.y(), index));
-        if (traced)
+        if (traced) {
+            const Color3f cameraWeight = sample.value;
             sample.value *= splatting
                                 ? integrator->LiAndSplats(&scene, &generator, ray, sampleSplats)
                                 : integrator->Li(&scene, &generator, ray);
+            for (Splat &splat : sampleSplats)
+                if (splat.atSample) {
+                    splat.position = sample.position;
+                    splat.value *= cameraWeight;
+                }
+        }
         return sample;
     };
 
@@ -117,8 +124,8 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
                         splats.push_back({sample.position, sample.value, even});
                     for (const Splat &splat : sampleSplats) {
                         if (splat.value.isValid())
-                            splats.push_back({splat.position, splat.value, even});
-                        else
+                            splats.push_back({splat.position, splat.value, even, splat.layer});
+                        else if (splat.layer == 0)
                             ++invalidSamples;
                     }
                 } else if (!valid) {
@@ -183,7 +190,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
                             "would not stop with theirs",
                             scene.getIntegrator()->pluginName());
     Film film(outputSize, camera->getReconstructionFilter(), aovs,
-              prototype->getMaxTolerance() > 0.0f, splatting);
+              prototype->getMaxTolerance() > 0.0f, splatting, 32,
+              splatting ? scene.getIntegrator()->splatLayers() : std::vector<std::string>());
     const FilterSampler filterSampler(camera->getReconstructionFilter());
 
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);

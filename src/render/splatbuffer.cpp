@@ -22,9 +22,11 @@ std::vector<float> inverseCoverage(const FilterTable &filter, int extent) {
 
 } // namespace
 
-SplatBuffer::SplatBuffer(const Vector2i &size, const ReconstructionFilter *filter, bool evenHalf)
+SplatBuffer::SplatBuffer(const Vector2i &size, const ReconstructionFilter *filter, bool evenHalf,
+                         int extraLayers)
     : m_size(size), m_filter(filter), m_inverseCoverageX(inverseCoverage(m_filter, size.x())),
-      m_inverseCoverageY(inverseCoverage(m_filter, size.y())), m_sum(size) {
+      m_inverseCoverageY(inverseCoverage(m_filter, size.y())), m_sum(size),
+      m_layerSums(static_cast<size_t>(std::max(extraLayers, 0)), Bitmap(size)) {
     if (evenHalf)
         m_evenSum = Bitmap(size);
 }
@@ -39,7 +41,8 @@ void SplatBuffer::put(const Record &record, int rowBegin, int rowEnd) {
         return;
     const int xMin = std::max(0, static_cast<int>(std::ceil(px - radius)));
     const int xMax = std::min(m_size.x() - 1, static_cast<int>(std::floor(px + radius)));
-    const bool even = record.evenSample && hasEvenHalf();
+    Bitmap &sum = record.layer == 0 ? m_sum : m_layerSums.at(static_cast<size_t>(record.layer - 1));
+    const bool even = record.layer == 0 && record.evenSample && hasEvenHalf();
     for (int y = yMin; y <= yMax; ++y) {
         const float weightY = m_filter.weight(static_cast<float>(y) - py) *
                               m_inverseCoverageY[static_cast<size_t>(y)];
@@ -47,7 +50,7 @@ void SplatBuffer::put(const Record &record, int rowBegin, int rowEnd) {
             const float weight = weightY * m_filter.weight(static_cast<float>(x) - px) *
                                  m_inverseCoverageX[static_cast<size_t>(x)];
             const Color3f value = record.value * weight;
-            m_sum(y, x) += value;
+            sum(y, x) += value;
             if (even)
                 m_evenSum(y, x) += value;
         }
