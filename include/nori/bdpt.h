@@ -117,6 +117,14 @@ public:
     /// light emitting.
     static float pdfToward(const Scene &scene, const PathVertex &from, const PathVertex *previous,
                            const PathVertex &next);
+    /// The density at `next` of a delta lobe at `from` sampling it, without the lobe's
+    /// Dirac factor: a unit density per projected solid angle, so the geometry term
+    /// G(from, next) = |cos θ_from||cos θ_next|/d². Strategies that cross a delta vertex in
+    /// either direction share its Dirac factor, so it cancels from their weights, and the
+    /// geometry terms of its two edges stay (Veach 1997, §10.3.5: densities per projected
+    /// solid angle). Dropping them too, as PBR 3rd ed. §16.3.4 does, weighs caustics seen
+    /// through glass towards the camera subpath that hits the light by chance.
+    static float pdfThroughDelta(const PathVertex &from, const PathVertex &next);
     /// The density with which a light subpath starts at the light vertex `light`, emitting
     /// toward `next`: the light's pmf times its position density (for light at infinity,
     /// the density of the direction, summed over the lights at infinity).
@@ -132,7 +140,7 @@ private:
     /// Extends `path` from its last vertex along `ray` (Veach's random walk, PBR 3rd ed.
     /// §16.3.2): surfaces found, densities both ways, the throughput updated by BSDF
     /// samples (for radiance on camera subpaths; adjoint, for flux, on light subpaths).
-    void randomWalk(const Scene &scene, Sampler &sampler, Ray3f ray, Color3f throughput,
+    void randomWalk(const Scene &scene, Sampler &sampler, Ray3f ray, const Color3f &throughput,
                     bool radiance, std::vector<PathVertex> &path) const;
 
     PathDepth m_depth;

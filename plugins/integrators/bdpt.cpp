@@ -86,7 +86,7 @@ public:
             return m_paths.estimate(*scene, *sampler, ray, splats);
         // The debug view: each strategy's light, weighted and not, as splats of its layers.
         std::vector<Splat> layers;
-        const Color3f radiance =
+        Color3f radiance =
             m_paths.estimate(*scene, *sampler, ray, splats, [&](const StrategySample &strategy) {
                 const auto layer = m_layerOf.find({strategy.s, strategy.t});
                 if (layer == m_layerOf.end() || (strategy.unweighted == 0.0f).all())

@@ -102,6 +102,10 @@ float BidirectionalPaths::pdfLight(const Scene &scene, const PathVertex &light,
     return toAreaDensity(density.direction, light, next);
 }
 
+float BidirectionalPaths::pdfThroughDelta(const PathVertex &from, const PathVertex &next) {
+    return toAreaDensity(std::abs(from.n.dot(directionBetween(from, next))), from, next);
+}
+
 float BidirectionalPaths::pdfToward(const Scene &scene, const PathVertex &from,
                                     const PathVertex *previous, const PathVertex &next) {
     if (from.kind == PathVertex::Kind::Light)
@@ -174,8 +178,8 @@ void linkDensities(const Scene &scene, std::vector<PathVertex> &path) {
     }
     PathVertex &before = path[current - 1];
     if (path[current].delta) {
-        // A delta lobe: a Dirac factor common to every strategy that crosses it.
-        newest.pdfForward = before.pdfReverse = 0.0f;
+        newest.pdfForward = BidirectionalPaths::pdfThroughDelta(path[current], newest);
+        before.pdfReverse = BidirectionalPaths::pdfThroughDelta(path[current], before);
         return;
     }
     newest.pdfForward = BidirectionalPaths::pdfToward(scene, path[current], &before, newest);
@@ -185,7 +189,7 @@ void linkDensities(const Scene &scene, std::vector<PathVertex> &path) {
 } // namespace
 
 void BidirectionalPaths::randomWalk(const Scene &scene, Sampler &sampler, Ray3f ray,
-                                    Color3f throughput, bool radiance,
+                                    const Color3f &throughput, bool radiance,
                                     std::vector<PathVertex> &path) const {
     // A camera subpath holds the lens, maxDepth scattering vertices and the vertex its last
     // ray finds; a light subpath the light and maxDepth scattering vertices.

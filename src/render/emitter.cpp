@@ -59,7 +59,7 @@ EmissionDensity Emitter::emissionDensity(const Point3f &, const Normal3f &,
 Color3f Emitter::samplePhoton(Ray3f &ray, const Point2f &positionSample,
                               const Point2f &directionSample) const {
     EmissionSample emission;
-    const Color3f weight = sampleEmission(emission, positionSample, directionSample);
+    Color3f weight = sampleEmission(emission, positionSample, directionSample);
     ray = emission.ray;
     return weight;
 }

@@ -85,9 +85,9 @@ Color3f connectToCamera(const Scene &scene, const Intersection &its, const Vecto
     if ((f == 0.0f).all() || cosLightGeometric == 0.0f)
         return Color3f(0.0f);
     // Radiance = flux·f·|ωL·ns|/|ωL·ng| per projected area (Veach 1997, §5.3).
-    const Color3f response = f * std::abs(Frame::cosTheta(query.wo)) *
-                             std::abs(camera.direction.dot(its.geoFrame.n)) / cosLightGeometric *
-                             camera.importance;
+    Color3f response = f * std::abs(Frame::cosTheta(query.wo)) *
+                       std::abs(camera.direction.dot(its.geoFrame.n)) / cosLightGeometric *
+                       camera.importance;
     if ((response == 0.0f).all() ||
         (!link.traced && scene.rayIntersect(its.spawnRayTo(camera.lensPoint))))
         return Color3f(0.0f);
