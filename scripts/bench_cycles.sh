@@ -25,7 +25,7 @@ trap 'rm -rf "$out"' EXIT
 
 nori() { # output name, then -D definitions; prints the render time in seconds
     local name="$1"; shift
-    "$build/nori" --no-progress --threads "$threads" -D size="$size" -D sphere=diffuse \
+    "$build/nori" --no-progress --threads "$threads" -D integrator=path_mis -D size="$size" -D sphere=diffuse \
         -D filter=box "$@" "$here/scenes/cbox/cbox.xml" -o "$out/$name.exr" 2>&1 |
         awk '/^Done in / { # "Done in 840 ms (", "11.2 s (", "6 min 43 s (", "1 h 02 min ("
                  n = split(substr($0, 9, index($0, " (") - 9), f, " "); t = 0

@@ -59,7 +59,8 @@ def watch(url, done, counts):
 def render(preview, output):
     """Wall seconds of the whole nori process (nori prints its render time to 0.1 s only,
     too coarse here) and the client's request counts."""
-    command = [args.nori, "--no-progress", "--spp", str(args.spp), "-o", output, args.scene]
+    command = [args.nori, "--no-progress", "--spp", str(args.spp), "-D", "integrator=path_mis",
+               "-o", output, args.scene]
     if args.threads:
         command += ["--threads", str(args.threads)]
     counts = {"status": 0, "images": 0, "bytes": 0}

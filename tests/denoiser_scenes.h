@@ -20,11 +20,11 @@ struct DenoiserScene {
 /// use other seeds, so they share no samples with them.
 constexpr int kReferenceSpp = 8192;
 
-/// The Cornell box (with its glass sphere), Veach's MIS plates (direct_mis) and the
+/// The Cornell box (with its glass sphere; path_mis, as its reference), Veach's MIS plates (direct_mis) and the
 /// textured scene (image textures, normal maps, a mirror sphere).
 inline const std::vector<DenoiserScene> &scenes() {
     static const std::vector<DenoiserScene> list{
-        {"cbox", "scenes/cbox/cbox.xml", {{"size", "128"}}},
+        {"cbox", "scenes/cbox/cbox.xml", {{"size", "128"}, {"integrator", "path_mis"}}},
         {"veach", "scenes/veach/veach.xml", {{"width", "160"}, {"height", "96"}}},
         {"textured", "scenes/textured/textured.xml", {{"width", "160"}, {"height", "90"}}},
     };

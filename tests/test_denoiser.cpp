@@ -229,8 +229,8 @@ TEST_CASE("nori --denoise and nori-imgtool denoise write the denoised image", "[
     TempDir dir;
     const std::string scene = std::string(NORI_SOURCE_DIR) + "/scenes/cbox/cbox.xml";
     const std::string stem = (dir.path() / "box").string();
-    const auto rendered =
-        runNori({"-D", "size=48", "-D", "spp=4", "--denoise", "--no-progress", "-o", stem, scene});
+    const auto rendered = runNori({"-D", "integrator=path_mis", "-D", "size=48", "-D", "spp=4",
+                                   "--denoise", "--no-progress", "-o", stem, scene});
     INFO(rendered.output);
     REQUIRE(rendered.exitCode == 0);
     CHECK_THAT(rendered.output, Contains("wrote " + stem + "_denoised.exr"));

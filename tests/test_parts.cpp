@@ -24,7 +24,10 @@ const std::vector<AOV> kAllAOVs = {AOV::Albedo,   AOV::Normal,      AOV::Depth,
 
 /// The Cornell box of the README (glass sphere: caustic fireflies, large values), small.
 std::shared_ptr<Scene> loadBox(const std::string &seed = "0") {
-    LoadOptions options({{"size", "40"}, {"spp", std::to_string(kSpp)}, {"seed", seed}});
+    LoadOptions options({{"integrator", "path_mis"},
+                         {"size", "40"},
+                         {"spp", std::to_string(kSpp)},
+                         {"seed", seed}});
     return std::dynamic_pointer_cast<Scene>(
         loadFromXML(std::string(NORI_SOURCE_DIR) + "/scenes/cbox/cbox.xml", options));
 }
@@ -255,7 +258,7 @@ TEST_CASE("Renders that cannot be split say why", "[parts]") {
                    renderPart(*scene, timed, {1, 2}, "0", "cbox");
                }),
                Catch::Contains("cannot have a time budget"));
-    LoadOptions adaptive({{"size", "8"}, {"tolerance", "0.1"}});
+    LoadOptions adaptive({{"integrator", "path_mis"}, {"size", "8"}, {"tolerance", "0.1"}});
     auto adaptiveScene = std::dynamic_pointer_cast<Scene>(
         loadFromXML(std::string(NORI_SOURCE_DIR) + "/scenes/cbox/cbox.xml", adaptive));
     CHECK_THAT(errorOf([&] {
@@ -293,8 +296,9 @@ TEST_CASE("nori --part and nori merge from the command line", "[parts][cli]") {
     const auto part = [&](int k, const std::string &seed) {
         const std::string out = (dir.path() / fmt::format("p{}s{}", k, seed)).string();
         const ProcessResult result =
-            runNori({"--no-progress", "-D", "size=16", "-D", "spp=4", "-D", "seed=" + seed,
-                     "--part", fmt::format("{}/2", k), "--aovs", "variance", "-o", out, scene});
+            runNori({"--no-progress", "-D", "integrator=path_mis", "-D", "size=16", "-D", "spp=4",
+                     "-D", "seed=" + seed, "--part", fmt::format("{}/2", k), "--aovs", "variance",
+                     "-o", out, scene});
         INFO(result.output);
         REQUIRE(result.exitCode == 0);
         CHECK_THAT(result.output,

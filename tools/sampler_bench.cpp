@@ -48,6 +48,7 @@ struct Settings {
 /// The Cornell box, its sphere diffuse unless `defines` says otherwise.
 std::shared_ptr<Scene> cornellBox(const Settings &settings, Defines defines) {
     defines["size"] = std::to_string(settings.size);
+    defines.emplace("integrator", "path_mis");
     defines.emplace("sphere", "diffuse");
     return std::dynamic_pointer_cast<Scene>(
         loadFromXML(std::string(NORI_SOURCE_DIR) + "/scenes/cbox/cbox.xml", LoadOptions(defines)));

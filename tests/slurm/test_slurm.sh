@@ -128,7 +128,7 @@ wait_for_jobs() {
 # The split render on the cluster: 4 parts of 8 spp, AOV layers merged too.
 out=$scratch/render/cluster
 submitted=$(bash "$source_dir/scripts/slurm/render.sh" "$scene" --parts 4 --spp 8 --out "$out" \
-    --nori "$nori" --cpus-per-task=1 -- -D size=32 --aovs albedo,variance)
+    --nori "$nori" --cpus-per-task=1 -- -D integrator=path_mis -D size=32 --aovs albedo,variance)
 echo "$submitted"
 array=$(echo "$submitted" | sed -n 's/^array-job //p')
 merge=$(echo "$submitted" | sed -n 's/^merge-job //p')
@@ -143,7 +143,7 @@ grep -q "Merged 4 parts (8 spp)" "$out"_parts/merge.log || fail "the merge job d
 # The same render in one process: equal up to float summation order (the parts sum their
 # samples in another order; tests/test_parts.cpp bounds that per pixel). relMSE of such
 # differences is ~1e-14; a part missing or wrong gives ~1e-2.
-"$nori" --no-progress "$scene" --spp 8 -D size=32 --aovs albedo,variance -o "$scratch/render/single"
+"$nori" --no-progress "$scene" --spp 8 -D integrator=path_mis -D size=32 --aovs albedo,variance -o "$scratch/render/single"
 for layer in "" albedo variance; do
     "$imgtool" diff "$out.exr" "$scratch/render/single.exr" ${layer:+--layer "$layer"} \
         --tolerance 1e-10 || fail "the cluster's image differs from the single render (layer '$layer')"
@@ -155,13 +155,13 @@ fi
 
 # The same parts as local processes: the same sums, so the same file, byte for byte.
 bash "$source_dir/scripts/slurm/render.sh" "$scene" --parts 4 --spp 8 --out "$scratch/render/local" \
-    --nori "$nori" --local -- -D size=32 --aovs albedo,variance
+    --nori "$nori" --local -- -D integrator=path_mis -D size=32 --aovs albedo,variance
 cmp "$out.exr" "$scratch/render/local.exr" || fail "the cluster's and the local merge differ"
 
 # A failed task is resubmitted alone: part 3 removed and rendered again with --tasks 3.
 rm "$out"_parts/part-3.exr "$out.exr"
 submitted=$(bash "$source_dir/scripts/slurm/render.sh" "$scene" --parts 4 --spp 8 --out "$out" \
-    --nori "$nori" --tasks 3 --cpus-per-task=1 -- -D size=32 --aovs albedo,variance)
+    --nori "$nori" --tasks 3 --cpus-per-task=1 -- -D integrator=path_mis -D size=32 --aovs albedo,variance)
 merge=$(echo "$submitted" | sed -n 's/^merge-job //p')
 wait_for_jobs "$merge"
 cmp "$out.exr" "$scratch/render/local.exr" || fail "the merge after resubmitting part 3 differs"
