@@ -248,7 +248,7 @@ float bruteForceWeight(const Scene &scene, const std::vector<PathVertex> &light,
                        const std::vector<PathVertex> &camera, int t, const PathVertex &sampled,
                        const CameraLink &link, double exponent) {
     std::vector<PathVertex> x;
-    x.reserve(static_cast<size_t>(s + t));
+    x.reserve(static_cast<size_t>(s) + static_cast<size_t>(t));
     for (int i = 0; i < s; ++i)
         x.push_back(s == 1 ? sampled : light[i]);
     for (int i = t - 1; i >= 0; --i)
