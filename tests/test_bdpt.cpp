@@ -455,8 +455,11 @@ TEST_CASE("Lights give the densities their photons are drawn with", "[bdpt][emit
         const EmissionDensity density =
             emitter.emissionDensity(emission.p, emission.n, emission.ray.d.normalized());
         INFO(emitter.toString());
-        CHECK(density.position == Approx(emission.density.position).epsilon(1e-4));
-        CHECK(density.direction == Approx(emission.density.direction).epsilon(1e-3));
+        // The same densities from the sampled and from the recomputed world direction: float
+        // rounding, at most 1.05e-5 relative for the direction in this test (measured), so
+        // 1e-4; the positions agree to 1e-5.
+        CHECK(density.position == Approx(emission.density.position).epsilon(1e-5));
+        CHECK(density.direction == Approx(emission.density.direction).epsilon(1e-4));
         CHECK(density.position > 0.0f);
         CHECK(density.direction > 0.0f);
     }
@@ -486,7 +489,7 @@ TEST_CASE("The camera's direction density is its importance at unit distance", "
             INFO("lens: " << lens << ", film position " << film.x() << ", " << film.y());
             CHECK(camera->pdfDirection(ray.o, ray.d) ==
                   Approx(connection.importance * connection.distance * connection.distance)
-                      .epsilon(2e-3));
+                      .epsilon(1e-5));
         }
         Ray3f ray;
         camera->sampleRay(ray, Point2f(32.0f, 24.0f), Point2f(0.5f, 0.5f));
