@@ -368,8 +368,9 @@ TEST_CASE("BDPT's recursive MIS weights equal the weights of every strategy's de
                     INFO("sample " << i << ", strategy (s=" << s << ", t=" << t << ")");
                     REQUIRE(weight >= 0.0f);
                     REQUIRE(weight <= 1.0f + 1e-5f);
-                    // Products of up to a dozen float ratios: relative rounding ~1e-6.
-                    CHECK(weight == Approx(expected).epsilon(1e-4).margin(1e-6));
+                    // Products of up to a dozen float ratios against double: at most
+                    // 5.5e-7 relative measured, so 1e-5.
+                    CHECK(weight == Approx(expected).epsilon(1e-5).margin(1e-6));
                     ++compared;
                 }
             }
