@@ -87,6 +87,15 @@ struct CameraLink {
 Color3f connectToCamera(const Scene &scene, const Intersection &its, const Vector3f &toLight,
                         const Point2f &lensSample, CameraLink &link);
 
+/// The start of a path from the lights (photons, light tracing, bdpt): a light picked by
+/// power with `emitterSample` (Scene::sampleEmitter), and its photon (Emitter::
+/// sampleEmission, into `emission`). Returns the photon's flux over the light's pmf, whose
+/// mean over the samples is the scene's total power, and sets `emitter` and `pmf`; zero
+/// (and `emitter` nullptr or the flux invalid) when there is no light or sampling fails.
+Color3f sampleLightPath(const Scene &scene, float emitterSample, const Point2f &positionSample,
+                        const Point2f &directionSample, EmissionSample &emission,
+                        const Emitter *&emitter, float &pmf);
+
 /// Checks that paths traced from the lights can reach the camera of `scene`: a camera that
 /// connect() supports and no participating media. Throws NoriException naming `plugin` and the offending object; `method`
 /// names the technique in the message ("light tracing").

@@ -68,18 +68,19 @@ public:
 private:
     /// One path from a light; each surface vertex connected to the camera.
     void traceLightPath(const Scene &scene, Sampler &sampler, std::vector<Splat> &splats) const {
-        float emitterSample = sampler.next1D(), pmf = 0.0f;
+        const float emitterSample = sampler.next1D();
         const Point2f positionSample = sampler.next2D();
         const Point2f directionSample = sampler.next2D();
-        const Emitter *emitter = scene.sampleEmitter(emitterSample, pmf);
-        if (!emitter || pmf == 0.0f)
-            return;
         // The path's flux: Le·|cos θ|/(pdf_A·pdf_ω) over the light's pmf, whose mean is the
         // scene's total power; `throughput` is its share still carried (for the roulette).
-        Ray3f ray;
-        const Color3f power = emitter->samplePhoton(ray, positionSample, directionSample) / pmf;
-        if (!power.isValid() || (power == 0.0f).all())
+        EmissionSample emission;
+        const Emitter *emitter = nullptr;
+        float pmf = 0.0f;
+        const Color3f power = sampleLightPath(scene, emitterSample, positionSample, directionSample,
+                                              emission, emitter, pmf);
+        if ((power == 0.0f).all())
             return;
+        Ray3f ray = emission.ray;
         Color3f throughput(1.0f);
         // Connecting the vertex reached after `events` − 1 scattering events makes a path
         // that scatters `events` times, the last time toward the camera.

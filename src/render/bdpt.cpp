@@ -139,15 +139,15 @@ void BidirectionalPaths::traceCameraSubpath(const Scene &scene, Sampler &sampler
 void BidirectionalPaths::traceLightSubpath(const Scene &scene, Sampler &sampler,
                                            std::vector<PathVertex> &path) const {
     path.clear();
-    float emitterSample = sampler.next1D(), pmf = 0.0f;
+    const float emitterSample = sampler.next1D();
     const Point2f positionSample = sampler.next2D();
     const Point2f directionSample = sampler.next2D();
-    const Emitter *emitter = scene.sampleEmitter(emitterSample, pmf);
-    if (!emitter || pmf == 0.0f)
-        return;
     EmissionSample emission;
-    const Color3f flux = emitter->sampleEmission(emission, positionSample, directionSample) / pmf;
-    if (!flux.isValid() || (flux == 0.0f).all() || emission.density.position == 0.0f ||
+    const Emitter *emitter = nullptr;
+    float pmf = 0.0f;
+    const Color3f flux = sampleLightPath(scene, emitterSample, positionSample, directionSample,
+                                         emission, emitter, pmf);
+    if ((flux == 0.0f).all() || emission.density.position == 0.0f ||
         emission.density.direction == 0.0f)
         return;
     PathVertex light;

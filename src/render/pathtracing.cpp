@@ -94,6 +94,17 @@ Color3f connectToCamera(const Scene &scene, const Intersection &its, const Vecto
     return response;
 }
 
+Color3f sampleLightPath(const Scene &scene, float emitterSample, const Point2f &positionSample,
+                        const Point2f &directionSample, EmissionSample &emission,
+                        const Emitter *&emitter, float &pmf) {
+    pmf = 0.0f;
+    emitter = scene.sampleEmitter(emitterSample, pmf);
+    if (!emitter || pmf == 0.0f)
+        return Color3f(0.0f);
+    Color3f flux = emitter->sampleEmission(emission, positionSample, directionSample) / pmf;
+    return flux.isValid() ? flux : Color3f(0.0f);
+}
+
 void requireLightPathScene(const Scene &scene, const std::string &plugin,
                            const std::string &method) {
     const Camera *camera = scene.getCamera();

@@ -41,16 +41,17 @@ struct ChunkPhotons {
 void tracePhotonPath(const Scene &scene, uint64_t seed, uint64_t index,
                      std::vector<Photon> &stored) {
     PCG32 random(hashValues(seed, index), 0x70686f746f6eULL); // stream "photon"
-    float emitterSample = random.nextFloat(), pmf;
-    const Emitter *emitter = scene.sampleEmitter(emitterSample, pmf);
-    if (!emitter || pmf == 0.0f)
-        return;
+    const float emitterSample = random.nextFloat();
     const Point2f positionSample(random.nextFloat(), random.nextFloat());
     const Point2f directionSample(random.nextFloat(), random.nextFloat());
-    Ray3f ray;
-    Color3f power = emitter->samplePhoton(ray, positionSample, directionSample) / pmf;
-    if (!power.isValid() || (power == 0.0f).all())
+    EmissionSample emission;
+    const Emitter *emitter = nullptr;
+    float pmf = 0.0f;
+    Color3f power = sampleLightPath(scene, emitterSample, positionSample, directionSample, emission,
+                                    emitter, pmf);
+    if ((power == 0.0f).all())
         return;
+    Ray3f ray = emission.ray;
     Color3f throughput(1.0f); // power relative to the emitted power, for the roulette
     for (int bounce = 0; bounce < kMaxPhotonBounces; ++bounce) {
         Intersection its;
