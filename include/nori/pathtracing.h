@@ -19,6 +19,7 @@ class Emitter;
 class PropertyList;
 class Scene;
 struct BSDFQueryRecord;
+struct EmissionSample;
 struct EmitterQueryRecord;
 struct Intersection;
 
