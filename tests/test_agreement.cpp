@@ -68,15 +68,15 @@ public:
         ProgressiveRadii::Pixel *pixel = m_radii.pixel(sampler->pixel());
         if (!pixel)
             return photonMappedRadiance(*scene, m_map, *sampler, ray, m_radii.initialRadius(),
-                                        nullptr);
-        size_t found = 0;
-        const Color3f radiance = photonMappedRadiance(*scene, m_map, *sampler, ray,
-                                                      std::sqrt(pixel->radiusSquared), &found);
-        const float shrinkage =
-            ProgressiveRadii::shrinkage(pixel->photons, static_cast<float>(found), kAlpha);
+                                        m_parameters.splitBounces, nullptr);
+        float found = 0.0f;
+        const Color3f radiance =
+            photonMappedRadiance(*scene, m_map, *sampler, ray, std::sqrt(pixel->radiusSquared),
+                                 m_parameters.splitBounces, &found);
+        const float shrinkage = ProgressiveRadii::shrinkage(pixel->photons, found, kAlpha);
         pixel->passPhotons += found;
         ++pixel->passSamples;
-        return found > 0 ? Color3f(radiance / shrinkage) : radiance; // the slip
+        return found > 0.0f ? Color3f(radiance / shrinkage) : radiance; // the slip
     }
 
     std::string toString() const override { return "PlantedRadiusUpdate[]"; }
@@ -87,19 +87,6 @@ private:
     mutable ProgressiveRadii m_radii;
     PhotonMap m_map;
     uint32_t m_mapSample = UINT32_MAX;
-};
-
-/// Registers a plugin for the lifetime of the object.
-struct TemporaryPlugin {
-    TemporaryPlugin(const std::string &name, NoriObject::EClassType type,
-                    const NoriObjectFactory::Constructor &constructor)
-        : name(name) {
-        NoriObjectFactory::registerClass(name, type, constructor, __FILE__);
-    }
-    ~TemporaryPlugin() { NoriObjectFactory::unregisterClass(name); }
-    TemporaryPlugin(const TemporaryPlugin &) = delete;
-    TemporaryPlugin &operator=(const TemporaryPlugin &) = delete;
-    std::string name;
 };
 
 } // namespace
@@ -169,7 +156,7 @@ TEST_CASE("A photon radius update that shrinks before counting fails the agreeme
     // The Cornell box's whole image, where the matrix's sppm column sees a bias of 1.45 %
     // with 95 % power (docs/design/figures.md): the planted slip above must disagree with
     // the reference there; the shipped photon mapper, the same seeds, must agree.
-    const TemporaryPlugin plugin(
+    const testing::TemporaryPlugin plugin(
         "planted_radius_update", NoriObject::EIntegrator,
         [](const PropertyList &props) { return std::make_shared<PlantedRadiusUpdate>(props); });
     AgreementSettings settings;

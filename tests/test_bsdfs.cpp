@@ -207,6 +207,48 @@ TEST_CASE("Specular BSDFs obey the laws of reflection and refraction", "[bsdf][s
     CHECK(trapped.wo.z() < 0.0f); // reflected back inside
 }
 
+TEST_CASE("Smooth glass lists the lobes it samples, with their probabilities and weights",
+          "[bsdf][specular]") {
+    // discreteLobes() must describe sample() exactly: a sample whose first number falls in
+    // a lobe's share of [0, 1) returns that lobe's direction and eta, and the weight the
+    // lobe lists divided by its probability. Over 2,000 directions on the sphere (from
+    // outside, from inside, beyond the critical angle).
+    auto glass = makeBSDF(
+        R"(<bsdf type="dielectric"><float name="intIOR" value="1.5"/><float name="extIOR" value="1"/></bsdf>)");
+    PCG32 random(9, 4);
+    int totalReflections = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const Vector3f wi = nori::testing::randomDirection(random);
+        if (std::abs(wi.z()) < 1e-3f)
+            continue; // grazing: the refracted direction is ill-conditioned
+        DiscreteLobe lobes[BSDF::kMaxDiscreteLobes];
+        const int count = glass->discreteLobes(BSDFQueryRecord(wi), lobes);
+        REQUIRE((count == 1 || count == 2));
+        float start = 0.0f, total = 0.0f;
+        for (int l = 0; l < count; ++l) {
+            const DiscreteLobe &lobe = lobes[l];
+            INFO("wi " << wi.transpose() << ", lobe " << l << " of " << count);
+            REQUIRE(lobe.probability > 0.0f);
+            BSDFQueryRecord bRec(wi);
+            const Color3f weight =
+                glass->sample(bRec, Point2f(start + 0.5f * lobe.probability, 0.5f));
+            CHECK(bRec.wo.isApprox(lobe.wo, 1e-5f));
+            CHECK(bRec.eta == Approx(lobe.eta).epsilon(1e-6));
+            CHECK((weight * lobe.probability).isApprox(lobe.weight, 1e-5f));
+            start += lobe.probability;
+            total += lobe.probability;
+        }
+        CHECK(total == Approx(1.0f).epsilon(1e-6));
+        totalReflections += count == 1;
+    }
+    CHECK(totalReflections > 0); // total internal reflection was among the directions
+    // BSDFs with a continuous part, and single-lobe ones, list nothing: they are sampled.
+    DiscreteLobe lobes[BSDF::kMaxDiscreteLobes];
+    CHECK(makeBSDF(R"(<bsdf type="diffuse"/>)")->discreteLobes(incident(30.0f), lobes) == 0);
+    CHECK(makeBSDF(R"(<bsdf type="roughdielectric"/>)")->discreteLobes(incident(30.0f), lobes) ==
+          0);
+}
+
 TEST_CASE("Negative controls: χ² rejects a wrong glossy lobe and a wrong transmission lobe",
           "[bsdf][negative]") {
     // Glossy reflection: samples of α = 0.3 against the pdf of α = 0.36.

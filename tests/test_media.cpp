@@ -85,15 +85,6 @@ void checkMean(const RunningMoments &moments, double expected, const std::string
     CHECK(std::abs(moments.mean - expected) <= 4.5 * standardError + absolute);
 }
 
-/// Welch's two-sample t-test at significance 0.01: whether two estimates agree.
-bool samplesAgree(const RunningMoments &a, const RunningMoments &b, double &t) {
-    const double standardError =
-        std::sqrt(a.variance() / double(a.count) + b.variance() / double(b.count));
-    t = (a.mean - b.mean) / standardError;
-    const double degrees = double(std::min(a.count, b.count) - 1);
-    return 2.0 * (1.0 - studentTCdf(std::abs(t), degrees)) > 0.01;
-}
-
 /// Checks that two estimates agree, and (the negative control) that `reference` scaled
 /// by `controlScale` is told apart from `estimate`.
 void checkAgreement(const RunningMoments &estimate, const RunningMoments &reference,

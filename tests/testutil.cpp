@@ -183,4 +183,12 @@ std::string VariantAgreement::summary(size_t region) const {
                        100 * variant.at(region).detectableBias);
 }
 
+bool samplesAgree(const RunningMoments &a, const RunningMoments &b, double &t) {
+    const double standardError =
+        std::sqrt(a.variance() / double(a.count) + b.variance() / double(b.count));
+    t = (a.mean - b.mean) / standardError;
+    const double degrees = double(std::min(a.count, b.count) - 1);
+    return 2.0 * (1.0 - studentTCdf(std::abs(t), degrees)) > 0.01;
+}
+
 } // namespace nori::testing

@@ -115,6 +115,23 @@ inline float distanceToRay(const Point3f &p, const Ray3f &ray) {
     return (offset - offset.dot(d) * d).norm();
 }
 
+/// Registers a plugin for the lifetime of the object.
+struct TemporaryPlugin {
+    TemporaryPlugin(const std::string &name, NoriObject::EClassType type,
+                    const NoriObjectFactory::Constructor &constructor)
+        : name(name) {
+        NoriObjectFactory::registerClass(name, type, constructor, __FILE__);
+    }
+    ~TemporaryPlugin() { NoriObjectFactory::unregisterClass(name); }
+    TemporaryPlugin(const TemporaryPlugin &) = delete;
+    TemporaryPlugin &operator=(const TemporaryPlugin &) = delete;
+    std::string name;
+};
+
+/// Welch's two-sample t-test at significance 0.01: whether two estimates agree (`t`
+/// receives their difference in standard errors).
+bool samplesAgree(const RunningMoments &a, const RunningMoments &b, double &t);
+
 /// The message of the NoriException thrown by f, or "" if none was thrown.
 template <typename F> std::string errorOf(F &&f) {
     try {

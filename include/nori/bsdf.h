@@ -27,9 +27,21 @@ struct BSDFQueryRecord : TextureQuery {
         : TextureQuery(its), wi(wi), wo(wo), measure(measure) {}
 };
 
+/// One Dirac lobe of a BSDF that has nothing else (smooth glass): the direction it sends
+/// wi to, the probability that sample() picks it, and the lobe's whole weight, i.e. what
+/// sample() returns for it times that probability (F for glass's reflection).
+struct DiscreteLobe {
+    Vector3f wo;
+    float eta = 1.0f; ///< relative index of refraction, as BSDFQueryRecord::eta
+    float probability = 0.0f;
+    Color3f weight{0.0f};
+};
+
 class BSDF : public NoriObject {
 public:
     static constexpr EClassType kClassType = EBSDF;
+    /// The most lobes discreteLobes() lists.
+    static constexpr int kMaxDiscreteLobes = 2;
 
     /// Samples wo given wi; returns eval·cos(theta_o)/pdf, or zero when sampling fails.
     virtual Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const = 0;
@@ -47,6 +59,16 @@ public:
     /// denoiser's guide). The default estimates it from sample() with a fixed 8 × 8 grid
     /// of points; a BSDF with a closed form (diffuse: its albedo) overrides it.
     virtual Color3f albedo(const BSDFQueryRecord &bRec) const;
+    /// A BSDF made of Dirac lobes only lists them for bRec.wi in `lobes` (at most
+    /// kMaxDiscreteLobes, the ones sample() can pick) and returns how many, so that a camera
+    /// path can follow all of them instead of picking one (Whitted 1980; photon mapping's
+    /// ray-tracing pass, Jensen 2001, ch. 9). The default, 0: the BSDF
+    /// does not say, and is sampled.
+    virtual int discreteLobes(const BSDFQueryRecord &bRec, DiscreteLobe *lobes) const {
+        (void)bRec;
+        (void)lobes;
+        return 0;
+    }
 
     /// The textures behind the BSDF's colour and float parameters.
     const TextureParameters &textures() const { return m_textures; }

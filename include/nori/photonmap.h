@@ -20,9 +20,12 @@ class Scene;
 struct PhotonMappingParameters {
     size_t photonCount = 1000000; ///< photons stored per map
     float photonRadius = 0.0f;    ///< the gathering radius; 0: automatic
+    /// Camera paths follow every lobe of smooth glass (BSDF::discreteLobes) at their first
+    /// splitBounces bounces instead of picking one.
+    int splitBounces = 3;
 
-    /// Reads `photonCount` (positive) and `photonRadius` (finite, not negative); errors
-    /// name `plugin`.
+    /// Reads `photonCount` (positive), `photonRadius` (finite, not negative) and
+    /// `splitBounces` (0 to 8); errors name `plugin`.
     static PhotonMappingParameters read(const PropertyList &props, const std::string &plugin);
 };
 
@@ -80,9 +83,15 @@ PhotonMap tracePhotons(const Scene &scene, size_t photonCount, uint64_t seed,
 /// The radiance arriving along a camera ray by photon mapping: the ray follows specular
 /// reflections and refractions (BSDFs that are not diffuse), adds the emission it hits and,
 /// at the first diffuse hit, the density estimate Σ f·Φ/(π r²) over the photons within
-/// `radius` (Jensen 2001, eq. 7.6). `photonsFound` (if given) receives their number.
+/// `radius` (Jensen 2001, eq. 7.6). At its first `splitBounces` bounces, a BSDF that lists
+/// its Dirac lobes (smooth glass: reflection and refraction) is not sampled: the path
+/// splits and follows each lobe, weighted by the lobe's probability, so the light seen in
+/// glass comes without the noise of picking by Fresnel. `photonsFound` (if given)
+/// receives the photons found, each estimate's count times its branch's probability: the
+/// number a path that picked its lobes would find on average.
 Color3f photonMappedRadiance(const Scene &scene, const PhotonMap &map, Sampler &sampler,
-                             const Ray3f &cameraRay, float radius, size_t *photonsFound);
+                             const Ray3f &cameraRay, float radius, int splitBounces,
+                             float *photonsFound);
 
 /// "1,000,000 photons stored from 1,234,567 paths, 36.0 MiB, in 1.23 s".
 std::string describe(const PhotonTracingStatistics &statistics);
@@ -101,7 +110,7 @@ public:
     struct Pixel {
         float radiusSquared;
         float photons;        ///< N, the photons the radius is worth
-        uint32_t passPhotons; ///< photons found by this pass's samples
+        float passPhotons;    ///< photons found by this pass's samples
         uint32_t passSamples; ///< samples taken in this pass
     };
 

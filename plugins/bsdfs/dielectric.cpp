@@ -27,24 +27,30 @@ public:
     }
 
     Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const override {
-        const float cosThetaI = Frame::cosTheta(bRec.wi);
-        const float fresnel = fresnelDielectric(cosThetaI, m_extIOR, m_intIOR);
+        const float fresnel = fresnelDielectric(Frame::cosTheta(bRec.wi), m_extIOR, m_intIOR);
         bRec.measure = EDiscrete;
         if (sample.x() < fresnel) {
             // Reflection, chosen with probability F: weight F/F = 1.
-            bRec.wo = Vector3f(-bRec.wi.x(), -bRec.wi.y(), bRec.wi.z());
+            bRec.wo = reflection(bRec.wi);
             bRec.eta = 1.0f;
             return Color3f(1.0f);
         }
         // Refraction, chosen with probability 1 − F: weight (1 − F)/(1 − F) times the
-        // radiance scaling. eta is η_t/η_i for the side wi is on.
-        const bool outside = cosThetaI > 0.0f;
-        const float eta = outside ? m_intIOR / m_extIOR : m_extIOR / m_intIOR;
-        const Vector3f normal(0.0f, 0.0f, outside ? 1.0f : -1.0f);
-        if (!refract(bRec.wi, normal, eta, bRec.wo))
+        // radiance scaling.
+        if (!refraction(bRec.wi, bRec.wo, bRec.eta))
             return Color3f(0.0f); // unreachable: F = 1 under total internal reflection
-        bRec.eta = eta;
-        return Color3f(1.0f / (eta * eta));
+        return Color3f(1.0f / (bRec.eta * bRec.eta));
+    }
+
+    int discreteLobes(const BSDFQueryRecord &bRec, DiscreteLobe *lobes) const override {
+        const float fresnel = fresnelDielectric(Frame::cosTheta(bRec.wi), m_extIOR, m_intIOR);
+        lobes[0] = {reflection(bRec.wi), 1.0f, fresnel, Color3f(fresnel)};
+        DiscreteLobe &refracted = lobes[1];
+        if (fresnel >= 1.0f || !refraction(bRec.wi, refracted.wo, refracted.eta))
+            return 1; // total internal reflection
+        refracted.probability = 1.0f - fresnel;
+        refracted.weight = Color3f((1.0f - fresnel) / (refracted.eta * refracted.eta));
+        return 2;
     }
 
     Color3f eval(const BSDFQueryRecord &) const override { return Color3f(0.0f); }
@@ -55,6 +61,16 @@ public:
     }
 
 private:
+    static Vector3f reflection(const Vector3f &wi) { return {-wi.x(), -wi.y(), wi.z()}; }
+
+    /// The refracted direction of wi and eta = η_t/η_i for the side wi is on; false under
+    /// total internal reflection.
+    bool refraction(const Vector3f &wi, Vector3f &wo, float &eta) const {
+        const bool outside = Frame::cosTheta(wi) > 0.0f;
+        eta = outside ? m_intIOR / m_extIOR : m_extIOR / m_intIOR;
+        return refract(wi, Vector3f(0.0f, 0.0f, outside ? 1.0f : -1.0f), eta, wo);
+    }
+
     float m_intIOR, m_extIOR;
 };
 

@@ -17,6 +17,10 @@
  *   photonRadius  float    0        initial radius of every pixel; 0: the diagonal of
  *                                   the scene's bounding box / 500
  *   alpha         float    0.7      fraction of new photons kept per pass, in (0, 1)
+ *   splitBounces  integer  3        bounces at which camera paths follow both the
+ *                                   reflection and the refraction of smooth glass, each
+ *                                   weighted by its Fresnel probability (photonmapper);
+ *                                   0: pick one by Fresnel
  *
  *   <integrator type="progressivephotonmapper">
  *       <integer name="photonCount" value="100000"/>
@@ -71,8 +75,9 @@ public:
     Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const override {
         ProgressiveRadii::Pixel *pixel = m_radii.pixel(sampler->pixel());
         const float radius = pixel ? std::sqrt(pixel->radiusSquared) : m_radii.initialRadius();
-        size_t found = 0;
-        Color3f radiance = photonMappedRadiance(*scene, m_map, *sampler, ray, radius, &found);
+        float found = 0.0f;
+        Color3f radiance = photonMappedRadiance(*scene, m_map, *sampler, ray, radius,
+                                                m_parameters.splitBounces, &found);
         if (pixel) { // only this pixel's thread writes it during a pass (Integrator::beginPass)
             pixel->passPhotons += found;
             ++pixel->passSamples;
@@ -93,8 +98,10 @@ public:
     }
 
     std::string toString() const override {
-        return fmt::format("ProgressivePhotonMapper[photonCount={}, photonRadius={}, alpha={}]",
-                           m_parameters.photonCount, m_parameters.photonRadius, m_alpha);
+        return fmt::format(
+            "ProgressivePhotonMapper[photonCount={}, photonRadius={}, alpha={}, splitBounces={}]",
+            m_parameters.photonCount, m_parameters.photonRadius, m_alpha,
+            m_parameters.splitBounces);
     }
 
 private:

@@ -28,6 +28,8 @@ constexpr int kMaxPhotonBounces = 1024;
 /// Camera paths: Russian roulette from this bounce on, and a hard limit.
 constexpr int kCameraRouletteDepth = 3;
 constexpr int kMaxCameraBounces = 1024;
+/// Splitting at most this many bounces deep: up to 2^8 density estimates per sample.
+constexpr int kMaxSplitBounces = 8;
 /// Paths traced at most per photon wanted, before giving up on filling the map.
 constexpr uint64_t kMaxPathsPerPhoton = 100;
 
@@ -185,54 +187,106 @@ PhotonMap tracePhotons(const Scene &scene, size_t photonCount, uint64_t seed,
     return map;
 }
 
-Color3f photonMappedRadiance(const Scene &scene, const PhotonMap &map, Sampler &sampler,
-                             const Ray3f &cameraRay, float radius, size_t *photonsFound) {
-    if (photonsFound)
-        *photonsFound = 0;
-    Color3f radiance(0.0f), throughput(1.0f);
-    Ray3f ray = cameraRay;
+namespace {
+
+/// What the camera paths of one sample gathered, each branch of a split weighted by its
+/// probability (the product of the probabilities of the lobes it followed).
+struct CameraGather {
+    Color3f radiance{0.0f};
+    float photons = 0.0f; ///< photons found: each density estimate's count times its probability
+};
+
+/// The scene, map and settings one camera sample's paths share.
+struct CameraPathContext {
+    const Scene &scene;
+    const PhotonMap &map;
+    Sampler &sampler;
+    float radius;
+    int splitBounces;
+};
+
+/// Follows a camera path from `ray` (the bounce-th ray of the path) to its first diffuse
+/// hit and adds what it gathers times `probability`. `throughput` is the path's weight as
+/// if every lobe had been picked by sampling (split lobes: weight/probability), so that
+/// Russian roulette sees the same numbers with and without splitting.
+void followCameraPath(const CameraPathContext &context, Ray3f ray, Color3f throughput,
+                      float probability, int bounce, CameraGather &gather) {
     Point3f previous = ray.o;
-    for (int bounce = 0; bounce < kMaxCameraBounces; ++bounce) {
+    for (; bounce < kMaxCameraBounces; ++bounce) {
         Intersection its;
-        if (!scene.rayIntersect(ray, its)) {
+        if (!context.scene.rayIntersect(ray, its)) {
             // Only specular chains reach here: a filtered lookup of the environment.
-            radiance += throughput * lightAtInfinity(scene, ray);
-            break;
+            gather.radiance += probability * throughput * lightAtInfinity(context.scene, ray);
+            return;
         }
         if (const Emitter *emitter = its.shape->getEmitter())
-            radiance += throughput * emitter->eval(EmitterQueryRecord(previous, its));
+            gather.radiance +=
+                probability * throughput * emitter->eval(EmitterQueryRecord(previous, its));
 
         const BSDF *bsdf = its.shape->getBSDF();
         const Vector3f wiLocal = its.toLocal(-ray.d.normalized());
         if (bsdf->isDiffuse()) {
             Color3f reflected(0.0f);
             size_t found = 0;
-            map.forEachWithin(its.p, radius, [&](const Photon &photon) {
+            context.map.forEachWithin(its.p, context.radius, [&](const Photon &photon) {
                 ++found;
                 const BSDFQueryRecord bRec(its, wiLocal, its.toLocal(photon.direction),
                                            ESolidAngle);
                 reflected += bsdf->eval(bRec) * photon.power;
             });
-            radiance += throughput * reflected / (kPi * radius * radius);
-            if (photonsFound)
-                *photonsFound = found;
-            break;
+            gather.radiance +=
+                probability * throughput * reflected / (kPi * context.radius * context.radius);
+            gather.photons += probability * static_cast<float>(found);
+            return;
+        }
+
+        BSDFQueryRecord bRec(its, wiLocal);
+        if (bounce < context.splitBounces) {
+            DiscreteLobe lobes[BSDF::kMaxDiscreteLobes];
+            const int lobeCount = bsdf->discreteLobes(bRec, lobes);
+            if (lobeCount > 1) {
+                // Follow every lobe, each weighted by its probability of being picked.
+                for (int i = 0; i < lobeCount; ++i) {
+                    const DiscreteLobe &lobe = lobes[i];
+                    const Vector3f wo = its.toWorld(lobe.wo);
+                    if (!(lobe.probability > 0.0f) || !its.sidesAgree(wo))
+                        continue;
+                    bRec.wo = lobe.wo;
+                    bRec.eta = lobe.eta;
+                    bRec.measure = EDiscrete;
+                    followCameraPath(context, spawnScatteredRay(its, ray, bRec),
+                                     throughput * lobe.weight / lobe.probability,
+                                     probability * lobe.probability, bounce + 1, gather);
+                }
+                return;
+            }
         }
 
         // The same dimensions at every bounce, used or not.
-        const Point2f bsdfSample = sampler.next2D();
-        const float rouletteSample = sampler.next1D();
-        BSDFQueryRecord bRec(its, wiLocal);
+        const Point2f bsdfSample = context.sampler.next2D();
+        const float rouletteSample = context.sampler.next1D();
         const Color3f weight = bsdf->sample(bRec, bsdfSample);
         if ((weight == 0.0f).all() || !its.sidesAgree(its.toWorld(bRec.wo)))
-            break;
+            return;
         throughput *= weight;
         previous = its.p;
         ray = spawnScatteredRay(its, ray, bRec);
         if (!russianRoulette(bounce + 1, kCameraRouletteDepth, throughput, rouletteSample))
-            break;
+            return;
     }
-    return radiance;
+}
+
+} // namespace
+
+Color3f photonMappedRadiance(const Scene &scene, const PhotonMap &map, Sampler &sampler,
+                             const Ray3f &cameraRay, float radius, int splitBounces,
+                             float *photonsFound) {
+    CameraGather gather;
+    followCameraPath({scene, map, sampler, radius, splitBounces}, cameraRay, Color3f(1.0f), 1.0f, 0,
+                     gather);
+    if (photonsFound)
+        *photonsFound = gather.photons;
+    return gather.radiance;
 }
 
 PhotonMappingParameters PhotonMappingParameters::read(const PropertyList &props,
@@ -243,6 +297,10 @@ PhotonMappingParameters PhotonMappingParameters::read(const PropertyList &props,
         throw NoriException("{}: 'photonCount' must be positive, got {}", plugin, count);
     parameters.photonCount = static_cast<size_t>(count);
     parameters.photonRadius = props.getFloat("photonRadius", 0.0f);
+    parameters.splitBounces = props.getInteger("splitBounces", parameters.splitBounces);
+    if (parameters.splitBounces < 0 || parameters.splitBounces > kMaxSplitBounces)
+        throw NoriException("{}: 'splitBounces' must be in [0, {}], got {}", plugin,
+                            kMaxSplitBounces, parameters.splitBounces);
     if (!(parameters.photonRadius >= 0.0f) || !std::isfinite(parameters.photonRadius))
         throw NoriException("{}: 'photonRadius' must be finite and not negative (0: automatic), "
                             "got {}",
@@ -267,8 +325,8 @@ float photonGatherRadius(const Scene &scene, float photonRadius) {
 
 ProgressiveRadii::ProgressiveRadii(const Vector2i &size, float initialRadius)
     : m_width(size.x()), m_initialRadius(initialRadius),
-      m_pixels(static_cast<size_t>(size.prod()), Pixel{initialRadius * initialRadius, 0.0f, 0, 0}) {
-}
+      m_pixels(static_cast<size_t>(size.prod()),
+               Pixel{initialRadius * initialRadius, 0.0f, 0.0f, 0}) {}
 
 ProgressiveRadii::Pixel *ProgressiveRadii::pixel(const Point2i &p) {
     if (p.x() < 0 || p.y() < 0 || p.x() >= m_width)
@@ -280,13 +338,12 @@ ProgressiveRadii::Pixel *ProgressiveRadii::pixel(const Point2i &p) {
 void ProgressiveRadii::endPass(float alpha) {
     tbb::parallel_for(size_t(0), m_pixels.size(), [&](size_t i) {
         Pixel &pixel = m_pixels[i];
-        if (pixel.passSamples > 0 && pixel.passPhotons > 0) {
-            const float found =
-                static_cast<float>(pixel.passPhotons) / static_cast<float>(pixel.passSamples);
+        if (pixel.passSamples > 0 && pixel.passPhotons > 0.0f) {
+            const float found = pixel.passPhotons / static_cast<float>(pixel.passSamples);
             pixel.radiusSquared *= shrinkage(pixel.photons, found, alpha);
             pixel.photons += alpha * found;
         }
-        pixel.passPhotons = 0;
+        pixel.passPhotons = 0.0f;
         pixel.passSamples = 0;
     });
 }
