@@ -1,6 +1,7 @@
 // The agreement machinery (src/testing/agreement.h): comparisons in standard errors, and
 // planted biases of 0.5 % that it must see on the scenes where it has that power.
 #include "testing/agreementscenes.h"
+#include "testutil.h"
 
 #include <nori/camera.h>
 #include <nori/hash.h>

@@ -6,6 +6,7 @@
 #include "testutil.h"
 
 #include <nori/bitmap.h>
+#include <nori/bsdf.h>
 #include <nori/chisquare.h>
 #include <nori/emitter.h>
 #include <nori/frame.h>
