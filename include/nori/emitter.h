@@ -19,11 +19,18 @@ class Shape;
 /// An emitter query. It is also the TextureQuery of the emitter's point (p, uv and the
 /// footprint), so a textured radiance is looked up with the record itself.
 struct EmitterQueryRecord : TextureQuery {
-    Point3f ref;      ///< the point being lit
+    Point3f ref; ///< the point being lit
+    /// The shading normal at ref, by which a light may draw more directions where cos θ
+    /// is large (a small triangle mesh does); zero: none (a point in a medium, or a
+    /// caller that does not say). Sampling and density queries must agree on it.
+    Normal3f refNormal = Normal3f::Zero();
     Normal3f n;       ///< surface normal at p (area lights)
     Vector3f wi;      ///< unit direction from ref toward p
     float pdf = 0.0f; ///< solid-angle density of wi at ref (for delta lights: 1)
     Ray3f shadowRay;  ///< from ref to p, for the visibility test
+    /// The primitive of the light's shape that p lies on (ShapeSample::primitive): set by
+    /// a ray hit and by sample(); unknown for a record built from a point.
+    uint32_t primitive = ShapeSample::kUnknownPrimitive;
     /// For a camera ray that escapes to an environment: how its direction changes per
     /// pixel in x and y (from the ray differentials), for a filtered lookup. Zero
     /// otherwise: the lookup then matches the sampling density exactly.
@@ -39,7 +46,8 @@ struct EmitterQueryRecord : TextureQuery {
     }
     /// The light leaving a ray hit toward ref: p, n (geometric), uv and footprint.
     EmitterQueryRecord(const Point3f &ref, const Intersection &its)
-        : TextureQuery(its), ref(ref), n(its.geoFrame.n), wi((its.p - ref).normalized()) {}
+        : TextureQuery(its), ref(ref), n(its.geoFrame.n), wi((its.p - ref).normalized()),
+          primitive(its.primIndex) {}
     /// The light an escaping ray sees of an infinite emitter (environment).
     explicit EmitterQueryRecord(const Ray3f &ray, bool filtered = false)
         : ref(ray.o), wi(ray.d.normalized()) {

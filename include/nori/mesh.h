@@ -44,13 +44,17 @@ public:
     /// Seen from a point ref within kSolidAngleSamplingReach radii of its bounding
     /// sphere's centre, a mesh of at most kMaxSolidAngleTriangles triangles, each
     /// subtending a solid angle within the bounds of sphericaltriangle.h, is sampled
-    /// uniformly in solid angle: a triangle chosen in proportion to its solid angle, then a
-    /// direction uniform within it (Arvo 1995), so the density is 1/Ω of the whole mesh.
-    /// Otherwise (a larger or a distant mesh, a triangle nearly a point or nearly a
-    /// hemisphere, ref in a triangle's plane), by area as Shape does. pdfFromReference
-    /// makes the same choice.
-    ShapeSample sampleFromReference(const Point3f &ref, const Point2f &sample) const override;
-    float pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const override;
+    /// in solid angle: a triangle chosen in proportion to its solid angle, then a direction
+    /// within it (Arvo 1995), uniform (density 1/Ω of the whole mesh) or, given refNormal,
+    /// with the sample first warped bilinearly by the cosines of the triangle's corners to
+    /// it, so that directions of large cos θ come more often (density
+    /// bilinear(u)/Ω; PBR 4th ed. §6.5.4). Otherwise (a larger or a distant mesh, a
+    /// triangle nearly a point or nearly a hemisphere, ref in a triangle's plane), by area
+    /// as Shape does. pdfFromReference makes the same choices.
+    ShapeSample sampleFromReference(const Point3f &ref, const Normal3f &refNormal,
+                                    const Point2f &sample) const override;
+    float pdfFromReference(const Point3f &ref, const Normal3f &refNormal,
+                           const ShapeSample &point) const override;
     /// Meshes with more triangles are sampled by area: the choice by solid angle costs one
     /// solid angle per triangle for every sample and every density.
     static constexpr uint32_t kMaxSolidAngleTriangles = 8;

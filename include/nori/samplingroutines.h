@@ -34,8 +34,9 @@ SamplingRoutine phaseRoutine(const PhaseFunction &phase, const Vector3f &wi);
 /// Directions toward the light sampled from `ref`, against emitter.pdf(), in a frame whose
 /// +x points at the centre of the light's shape (so the light lies on the histogram's
 /// equator). For an area light the queried direction is traced to its shape to find p
-/// and n.
-SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref);
+/// and n. `refNormal` is the shading normal at ref the light is told (zero: none).
+SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref,
+                               const Normal3f &refNormal = Normal3f::Zero());
 /// A reference point from which to test an emitter, chosen by `u`: on a sphere around
 /// its shape's bounding box, at a distance of the box's diagonal from its centre (near
 /// enough that the light covers several histogram bins); for shapeless lights, on the

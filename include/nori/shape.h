@@ -40,6 +40,10 @@ struct ShapeSample {
     Normal3f n;                       ///< outward (geometric) normal at p
     float pdf = 0; ///< density: per area (sampleSurface) or per solid angle at the
                    ///< reference point (sampleFromReference)
+    /// The primitive (a mesh's triangle) p lies on, or kUnknownPrimitive: a density query
+    /// that knows it (a ray hit, a sample) needs not find it again from p.
+    uint32_t primitive = kUnknownPrimitive;
+    static constexpr uint32_t kUnknownPrimitive = UINT32_MAX;
 };
 
 struct Intersection {
@@ -111,12 +115,17 @@ public:
 
     /// A point uniformly distributed over the surface (pdf = 1/area).
     virtual ShapeSample sampleSurface(const Point2f &sample) const = 0;
-    /// A point on the surface as seen from `ref`, with its pdf in solid angle at ref. The
-    /// default converts area sampling (pdf_ω = pdf_A · d²/|cos θ|); shapes that can do
-    /// better (a sphere's visible cone) override it together with pdfFromReference.
-    virtual ShapeSample sampleFromReference(const Point3f &ref, const Point2f &sample) const;
-    /// The solid-angle density at ref of sampleFromReference producing (p, n).
-    virtual float pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const;
+    /// A point on the surface as seen from `ref`, with its pdf in solid angle at ref.
+    /// `refNormal` is the shading normal at ref, or zero (a point in a medium): a shape may
+    /// draw more directions where its cos θ is large. The default converts area sampling
+    /// (pdf_ω = pdf_A · d²/|cos θ|); shapes that can do better (a sphere's visible cone, a
+    /// small mesh's spherical triangles) override it together with pdfFromReference.
+    virtual ShapeSample sampleFromReference(const Point3f &ref, const Normal3f &refNormal,
+                                            const Point2f &sample) const;
+    /// The solid-angle density at ref of sampleFromReference producing `point` (its p, n
+    /// and primitive; its pdf is not read).
+    virtual float pdfFromReference(const Point3f &ref, const Normal3f &refNormal,
+                                   const ShapeSample &point) const;
     /// sampleSurface's point with its density in solid angle at ref: pdf_A · d²/|cos θ|.
     /// The default of the two above; an area light asks for it with `sampling="area"`.
     ShapeSample areaSampleFromReference(const Point3f &ref, const Point2f &sample) const;

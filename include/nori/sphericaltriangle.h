@@ -5,6 +5,7 @@
 
 #include <nori/vector.h>
 
+#include <array>
 #include <optional>
 
 namespace nori {
@@ -38,6 +39,20 @@ float sphericalTriangleSolidAngle(const Point3f &p0, const Point3f &p1, const Po
 /// uniform. Nothing when the triangle is degenerate as seen (Ω = 0, a vertex at the point).
 std::optional<Vector3f> sampleSphericalTriangle(const SphericalTriangle &triangle,
                                                 const Point2f &sample);
+
+/// The sample that sampleSphericalTriangle maps to the unit direction w inside `triangle`
+/// (PBR 4th ed. §6.5.4, InvertSphericalTriangleSample): c′ where the great circle
+/// through b and w meets the arc from a to c, then u = Ω(a, b, c′)/Ω and
+/// v = (1 − w·b)/(1 − c′·b), each clamped to [0, 1]. Nothing for a degenerate triangle.
+std::optional<Point2f> invertSphericalTriangleSample(const SphericalTriangle &triangle,
+                                                     const Vector3f &w);
+
+/// The weights of squareToBilinear at the corners of sampleSphericalTriangle's square,
+/// which it maps to b, b, a and c (u = 0 is the arc from b to a, v = 0 the vertex b): the
+/// cosines of a, b, c to the normal n, not below 0.01, so that warping the sample by them
+/// draws directions roughly in proportion to cos θ at a shading point (PBR 4th ed.
+/// §6.5.4; pbrt-v4 takes |cos θ|, for light through the surface too).
+std::array<float, 4> cosineCornerWeights(const SphericalTriangle &triangle, const Vector3f &n);
 
 /// Where the ray from `ref` along the unit direction w meets the plane of triangle (p0,
 /// p1, p2) (Möller and Trumbore 1997): the barycentrics (b1, b2) of p1 and p2, clamped

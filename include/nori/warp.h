@@ -5,6 +5,8 @@
 
 #include <nori/vector.h>
 
+#include <array>
+
 namespace nori {
 
 class Sampler;
@@ -32,6 +34,13 @@ public:
     /// Shirley–Chiu concentric map onto the unit disk (equal area); density 1/π.
     static Point2f squareToUniformDiskConcentric(const Point2f &sample);
     static float squareToUniformDiskConcentricPdf(const Point2f &p);
+
+    /// The bilinear density on [0,1]² through the corner weights w = (w(0,0), w(1,0),
+    /// w(0,1), w(1,1)), not negative: 4·bilerp(w, p)/Σw (PBR 4th ed. §A.5.2), drawn by the
+    /// marginal in y and then the conditional in x, each linear and inverted in closed
+    /// form. Uniform when every weight is 0.
+    static Point2f squareToBilinear(const Point2f &sample, const std::array<float, 4> &w);
+    static float squareToBilinearPdf(const Point2f &p, const std::array<float, 4> &w);
 
     /// Uniform in the triangle (0,0), (1,0), (0,1), as barycentrics (PBR 4th ed. §A.5.5);
     /// density 2.

@@ -4,12 +4,14 @@
  * point to (as Nori 2 and pbrt decide, even when the triangles wind the other way),
  * else the side of its winding's normal.
  * Points are sampled in solid angle where the shape can: a sphere through the cone it
- * subtends, a mesh of at most 8 triangles uniformly in its spherical triangles (Arvo
- * 1995; PBR 4th ed. §6.5.4) when the shading point is within twice its bounding radius
- * and no triangle is nearly a point or nearly a hemisphere as seen from it; otherwise,
- * and other meshes, by area. `sampling="area"` samples every shape by
- * area (Nori 2's way), for comparisons. Photons leave a point uniform by area in a
- * cosine-weighted direction.
+ * subtends, a mesh of at most 8 triangles in its spherical triangles (Arvo 1995; PBR 4th
+ * ed. §6.5.4) when the shading point is within twice its bounding radius and no triangle
+ * is nearly a point or nearly a hemisphere as seen from it: uniformly, or, where the
+ * integrator gives the shading normal (the path tracers, volpath at surfaces, direct),
+ * warped bilinearly by the cosines of each triangle's corners to it, so that directions
+ * of large cos θ come more often (pbrt-v4's warp product sampling); otherwise, and other
+ * meshes, by area. `sampling="area"` samples every shape by area (Nori 2's way), for
+ * comparisons. Photons leave a point uniform by area in a cosine-weighted direction.
  *
  * Parameters:
  *   radiance  color/texture  (required)    emitted radiance
@@ -52,10 +54,12 @@ public:
     bool requiresShape() const override { return true; }
 
     Color3f sample(EmitterQueryRecord &lRec, const Point2f &sample) const override {
-        const ShapeSample point = m_byArea ? m_shape->areaSampleFromReference(lRec.ref, sample)
-                                           : m_shape->sampleFromReference(lRec.ref, sample);
+        const ShapeSample point =
+            m_byArea ? m_shape->areaSampleFromReference(lRec.ref, sample)
+                     : m_shape->sampleFromReference(lRec.ref, lRec.refNormal, sample);
         lRec.p = point.p;
         lRec.n = point.n;
+        lRec.primitive = point.primitive;
         lRec.uv = textureUV(*m_shape, point.uv);
         const Vector3f toLight = lRec.p - lRec.ref;
         const float distance = toLight.norm();
@@ -78,7 +82,7 @@ public:
         if (lRec.n.dot(lRec.wi) >= 0.0f)
             return 0.0f;
         return m_byArea ? m_shape->areaPdfFromReference(lRec.ref, lRec.p, lRec.n)
-                        : m_shape->pdfFromReference(lRec.ref, lRec.p, lRec.n);
+                        : solidAngleDensity(lRec);
     }
 
     // A point uniform by area (pdf_A = 1/A for meshes) and a cosine-weighted direction
@@ -135,6 +139,16 @@ public:
     }
 
 private:
+    /// The density sampleFromReference has for the record's point, on the primitive the
+    /// record names (a ray hit's, a sample's).
+    float solidAngleDensity(const EmitterQueryRecord &lRec) const {
+        ShapeSample point;
+        point.p = lRec.p;
+        point.n = lRec.n;
+        point.primitive = lRec.primitive;
+        return m_shape->pdfFromReference(lRec.ref, lRec.refNormal, point);
+    }
+
     std::shared_ptr<const Texture> m_radiance;
     bool m_byArea = false; ///< sample points uniformly by area, not in solid angle
 };

@@ -123,7 +123,8 @@ public:
         return result;
     }
 
-    ShapeSample sampleFromReference(const Point3f &ref, const Point2f &sample) const override {
+    ShapeSample sampleFromReference(const Point3f &ref, const Normal3f &,
+                                    const Point2f &sample) const override {
         const Vector3f toCenter = m_center - ref;
         const float distanceSquared = toCenter.squaredNorm();
         if (!seesCone(distanceSquared))
@@ -147,13 +148,14 @@ public:
         return result;
     }
 
-    float pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const override {
+    float pdfFromReference(const Point3f &ref, const Normal3f &,
+                           const ShapeSample &point) const override {
         const Vector3f toCenter = m_center - ref;
         const float distanceSquared = toCenter.squaredNorm();
         if (!seesCone(distanceSquared))
-            return areaPdfFromReference(ref, p, n);
+            return areaPdfFromReference(ref, point.p, point.n);
         // Only the near side is in the cone: the far side is never sampled.
-        if (Vector3f(p - m_center).dot(Vector3f(ref - m_center)) < 0.0f)
+        if (Vector3f(point.p - m_center).dot(Vector3f(ref - m_center)) < 0.0f)
             return 0.0f;
         const float cosThetaMax = safeSqrt(1.0f - m_radius * m_radius / distanceSquared);
         return kInvTwoPi / (1.0f - cosThetaMax);

@@ -1,8 +1,11 @@
 #include <nori/mesh.h>
 #include <nori/triangle.h>
+#include <nori/warp.h>
 
+#include <algorithm>
 #include <array>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <unordered_map>
 
@@ -222,6 +225,7 @@ ShapeSample Mesh::pointOnTriangle(uint32_t index, float b1, float b2) const {
     const Point3f &p0 = m_positions[face[0]], &p1 = m_positions[face[1]],
                   &p2 = m_positions[face[2]];
     ShapeSample result;
+    result.primitive = index;
     result.p = b0 * p0 + b1 * p1 + b2 * p2;
     result.n = faceForward(Vector3f(p1 - p0).cross(Vector3f(p2 - p0)).normalized(), index, b1, b2);
     result.uv = m_texCoords.empty()
@@ -297,7 +301,8 @@ bool Mesh::sphericalTrianglesFrom(const Point3f &ref, SphericalTriangles &triang
     return total > 0.0f;
 }
 
-ShapeSample Mesh::sampleFromReference(const Point3f &ref, const Point2f &sample) const {
+ShapeSample Mesh::sampleFromReference(const Point3f &ref, const Normal3f &refNormal,
+                                      const Point2f &sample) const {
     SphericalTriangles triangles;
     float total = 0.0f;
     if (!sphericalTrianglesFrom(ref, triangles, total))
@@ -307,10 +312,16 @@ ShapeSample Mesh::sampleFromReference(const Point3f &ref, const Point2f &sample)
     float u = sample.x() * total;
     while (index + 1 < m_faces.size() && u >= triangles[index].solidAngle)
         u -= triangles[index++].solidAngle;
-    u = std::clamp(u / triangles[index].solidAngle, 0.0f, 1.0f);
+    Point2f triangleSample(std::clamp(u / triangles[index].solidAngle, 0.0f, 1.0f), sample.y());
+    float warpDensity = 1.0f;
+    if (!refNormal.isZero()) {
+        const std::array<float, 4> weights = cosineCornerWeights(triangles[index], refNormal);
+        triangleSample = Warp::squareToBilinear(triangleSample, weights);
+        warpDensity = Warp::squareToBilinearPdf(triangleSample, weights);
+    }
 
     const std::optional<Vector3f> direction =
-        sampleSphericalTriangle(triangles[index], Point2f(u, sample.y()));
+        sampleSphericalTriangle(triangles[index], triangleSample);
     if (!direction)
         return {};
     const Vector3i &face = m_faces[index];
@@ -319,16 +330,45 @@ ShapeSample Mesh::sampleFromReference(const Point3f &ref, const Point2f &sample)
     if (!barycentrics)
         return {};
     ShapeSample result = pointOnTriangle(index, barycentrics->x(), barycentrics->y());
-    result.pdf = 1.0f / total;
+    result.pdf = warpDensity / total;
     return result;
 }
 
-float Mesh::pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const {
+float Mesh::pdfFromReference(const Point3f &ref, const Normal3f &refNormal,
+                             const ShapeSample &point) const {
     SphericalTriangles triangles;
     float total = 0.0f;
     if (!sphericalTrianglesFrom(ref, triangles, total))
-        return areaPdfFromReference(ref, p, n);
-    return 1.0f / total;
+        return areaPdfFromReference(ref, point.p, point.n);
+    if (refNormal.isZero())
+        return 1.0f / total;
+    // The warp's density at the sample that gives the direction toward p, in p's triangle:
+    // the one the query names (a ray hit's, a sample's), else the one whose three edge
+    // planes have the direction most inside (directions within rounding of an edge shared
+    // by two triangles could be either's).
+    const Vector3f w = (point.p - ref).normalized();
+    uint32_t index = point.primitive;
+    if (index >= m_faces.size()) {
+        float mostInside = -std::numeric_limits<float>::infinity();
+        for (uint32_t i = 0; i < m_faces.size(); ++i) {
+            const SphericalTriangle &triangle = triangles[i];
+            // The planes' normals a × b, b × c, c × a point inward when a·(b × c) > 0.
+            const float orientation =
+                triangle.a.dot(triangle.b.cross(triangle.c)) > 0.0f ? 1.0f : -1.0f;
+            const float inside = std::min({orientation * w.dot(triangle.a.cross(triangle.b)),
+                                           orientation * w.dot(triangle.b.cross(triangle.c)),
+                                           orientation * w.dot(triangle.c.cross(triangle.a))});
+            if (inside > mostInside) {
+                mostInside = inside;
+                index = i;
+            }
+        }
+    }
+    const std::optional<Point2f> sample = invertSphericalTriangleSample(triangles[index], w);
+    if (!sample)
+        return 0.0f;
+    return Warp::squareToBilinearPdf(*sample, cosineCornerWeights(triangles[index], refNormal)) /
+           total;
 }
 
 void Mesh::computeTangents() {

@@ -91,7 +91,8 @@ void Shape::addChild(const std::shared_ptr<NoriObject> &child, const std::string
     }
 }
 
-ShapeSample Shape::sampleFromReference(const Point3f &ref, const Point2f &sample) const {
+ShapeSample Shape::sampleFromReference(const Point3f &ref, const Normal3f &,
+                                       const Point2f &sample) const {
     return areaSampleFromReference(ref, sample);
 }
 
@@ -101,8 +102,9 @@ ShapeSample Shape::areaSampleFromReference(const Point3f &ref, const Point2f &sa
     return result;
 }
 
-float Shape::pdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const {
-    return areaPdfFromReference(ref, p, n);
+float Shape::pdfFromReference(const Point3f &ref, const Normal3f &,
+                              const ShapeSample &point) const {
+    return areaPdfFromReference(ref, point.p, point.n);
 }
 
 float Shape::areaPdfFromReference(const Point3f &ref, const Point3f &p, const Normal3f &n) const {

@@ -60,6 +60,37 @@ std::optional<Vector3f> sampleSphericalTriangle(const SphericalTriangle &triangl
     return w;
 }
 
+std::optional<Point2f> invertSphericalTriangleSample(const SphericalTriangle &triangle,
+                                                     const Vector3f &w) {
+    const Vector3f &a = triangle.a, &b = triangle.b, &c = triangle.c;
+    if (!(triangle.solidAngle > 0.0f))
+        return std::nullopt;
+    // c′ lies on both great circles: the one through b and w (normal b × w) and the one
+    // through a and c (normal c × a); of the two antipodal candidates, the one between a
+    // and c.
+    Vector3f cPrime = b.cross(w).cross(c.cross(a));
+    if (!(cPrime.squaredNorm() > 0.0f))
+        return Point2f(0.5f, 0.0f); // w is b itself (or the triangle is degenerate)
+    cPrime.normalize();
+    if (cPrime.dot(a + c) < 0.0f)
+        cPrime = -cPrime;
+    // Within a tenth of a degree of a, the sub-triangle has no area to measure.
+    const float u = a.dot(cPrime) > 0.99999847691f
+                        ? 0.0f
+                        : SphericalTriangle(a, b, cPrime).solidAngle / triangle.solidAngle;
+    const float denominator = 1.0f - cPrime.dot(b);
+    const float v = denominator > 0.0f ? (1.0f - w.dot(b)) / denominator : 0.0f;
+    return Point2f(std::clamp(u, 0.0f, 1.0f), std::clamp(v, 0.0f, 1.0f));
+}
+
+std::array<float, 4> cosineCornerWeights(const SphericalTriangle &triangle, const Vector3f &n) {
+    constexpr float kFloor = 0.01f;
+    const float cosA = std::max(kFloor, std::abs(n.dot(triangle.a)));
+    const float cosB = std::max(kFloor, std::abs(n.dot(triangle.b)));
+    const float cosC = std::max(kFloor, std::abs(n.dot(triangle.c)));
+    return {cosB, cosB, cosA, cosC};
+}
+
 std::optional<Point2f> barycentricsAlong(const Point3f &p0, const Point3f &p1, const Point3f &p2,
                                          const Point3f &ref, const Vector3f &w) {
     const Vector3f e1 = p1 - p0, e2 = p2 - p0;

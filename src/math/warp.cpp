@@ -1,5 +1,7 @@
 #include <nori/warp.h>
 
+#include <limits>
+
 // Weak definitions: a course's warp.cpp among the plugins defines the same functions
 // strongly, and the linker takes those (see warp.h).
 #define NORI_REPLACEABLE __attribute__((weak))
@@ -37,7 +39,40 @@ float tent1D(float u) {
     return u < 0.5f ? std::sqrt(2.0f * u) - 1.0f : 1.0f - std::sqrt(2.0f - 2.0f * u);
 }
 
+/// x in [0, 1) with density proportional to (1 − x)·a + x·b (a, b ≥ 0, not both 0): the
+/// root of the CDF's quadratic in its cancellation-free form (PBR 4th ed. §A.5.1).
+float sampleLinear(float u, float a, float b) {
+    if (u == 0.0f && a == 0.0f)
+        return 0.0f;
+    const float x = u * (a + b) / (a + std::sqrt(lerp(u, a * a, b * b)));
+    return std::min(x, 1.0f - std::numeric_limits<float>::epsilon() / 2.0f);
+}
+
 } // namespace
+
+NORI_REPLACEABLE Point2f Warp::squareToBilinear(const Point2f &sample,
+                                                const std::array<float, 4> &w) {
+    if (w[0] + w[1] + w[2] + w[3] == 0.0f)
+        return sample;
+    // The marginal in y is linear between the rows' sums; the conditional in x linear
+    // between the weights interpolated at that y.
+    const float y = sampleLinear(sample.y(), w[0] + w[1], w[2] + w[3]);
+    const float x = sampleLinear(sample.x(), lerp(y, w[0], w[2]), lerp(y, w[1], w[3]));
+    return Point2f(x, y);
+}
+
+NORI_REPLACEABLE float Warp::squareToBilinearPdf(const Point2f &p, const std::array<float, 4> &w) {
+    if (!((p.array() >= 0.0f).all() && (p.array() <= 1.0f).all()))
+        return 0.0f;
+    const float total = w[0] + w[1] + w[2] + w[3];
+    if (total == 0.0f)
+        return 1.0f;
+    const float x = p.x(), y = p.y();
+    return 4.0f *
+           ((1.0f - x) * (1.0f - y) * w[0] + x * (1.0f - y) * w[1] + (1.0f - x) * y * w[2] +
+            x * y * w[3]) /
+           total;
+}
 
 NORI_REPLACEABLE Vector3f Warp::sphericalDirection(float cosTheta, float phi) {
     const float sinTheta = safeSqrt(1.0f - cosTheta * cosTheta);

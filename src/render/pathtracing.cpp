@@ -25,6 +25,7 @@ Color3f sampleDirectLight(const Scene *scene, const Intersection &its, const BSD
     if (!emitter || pmf == 0.0f)
         return Color3f(0.0f);
     EmitterQueryRecord lRec(its.p);
+    lRec.refNormal = its.shFrame.n;
     const Color3f radianceOverPdf = emitter->sample(lRec, sample);
     // Light from below the geometric surface cannot reach a shading normal bent toward it.
     if ((radianceOverPdf == 0.0f).all() || !its.sidesAgree(lRec.wi))
@@ -50,7 +51,10 @@ Color3f emissionWithMIS(const Scene *scene, const Emitter &emitter, const Emitte
     Color3f le = emitter.eval(lRec);
     if (specularBounce || (le == 0.0f).all())
         return le;
-    const float lightPdf = scene->emitterPmf(lRec.ref, refNormal, &emitter) * emitter.pdf(lRec);
+    // The density of sampleDirectLight's choice, which knew the normal at ref.
+    EmitterQueryRecord query = lRec;
+    query.refNormal = refNormal;
+    const float lightPdf = scene->emitterPmf(lRec.ref, refNormal, &emitter) * emitter.pdf(query);
     return le * balanceHeuristic(scatterPdf, lightPdf);
 }
 

@@ -167,7 +167,8 @@ Point3f emitterReferencePoint(const Emitter &emitter, const Point2f &u) {
     return center + radius * Warp::squareToUniformSphere(u);
 }
 
-SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref) {
+SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref,
+                               const Normal3f &refNormal) {
     // Directions are binned in a frame whose +x points from ref at the light's centre: the
     // light then sits on the histogram's equator, where cells are regular, never at a
     // pole, where they are thin wedges that the quadrature of a disk's edge gets wrong.
@@ -179,16 +180,18 @@ SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref) {
     const Frame around(axis); // n = axis; its tangents complete the basis
     const Frame frame(axis, around.s, Normal3f(around.t));
     SamplingRoutine routine;
-    routine.sample = [&emitter, ref, frame](const Point2f &u, Vector3f &wi) {
+    routine.sample = [&emitter, ref, refNormal, frame](const Point2f &u, Vector3f &wi) {
         EmitterQueryRecord lRec(ref);
+        lRec.refNormal = refNormal;
         if ((emitter.sample(lRec, u) == 0.0f).all())
             return false;
         wi = frame.toLocal(lRec.wi);
         return true;
     };
-    routine.pdf = [&emitter, ref, frame](const Vector3f &local) -> double {
+    routine.pdf = [&emitter, ref, refNormal, frame](const Vector3f &local) -> double {
         const Vector3f wi = frame.toWorld(local);
         EmitterQueryRecord lRec(ref);
+        lRec.refNormal = refNormal;
         lRec.wi = wi;
         if (const Shape *shape = emitter.getShape()) {
             // Find where the direction meets the light's shape (closest primitive).
@@ -205,6 +208,7 @@ SamplingRoutine emitterRoutine(const Emitter &emitter, const Point3f &ref) {
                 shape->setHitInformation(i, ray, coords, its);
                 lRec.p = its.p;
                 lRec.n = its.geoFrame.n;
+                lRec.primitive = i;
             }
             if (tBest == kInfinity)
                 return 0.0;
