@@ -170,6 +170,42 @@ TEST_CASE("AOVs: the albedo, normal, depth and position of a plane", "[render][a
     CHECK(result.layers.channelsOf("normal") == std::vector<std::string>{"X", "Y", "Z"});
 }
 
+TEST_CASE("AOVs: emission is the light a camera ray meets first", "[render][aov]") {
+    // Seen from the origin along −z, with a box filter: the left half of the image is an
+    // area light of radiance (1, 2, 3) facing the camera, the lower right quarter a
+    // diffuse plane, the upper right quarter the constant
+    // environment of 0.25. The column and row boundaries fall between pixels.
+    TempDir dir;
+    dir.write("left.obj", "v -10 -10 0\nv 0 -10 0\nv 0 10 0\nv -10 10 0\nf 1 2 3 4\n");
+    dir.write("lowerRight.obj", "v 0 -10 0\nv 10 -10 0\nv 10 0 0\nv 0 0 0\nf 1 2 3 4\n");
+    auto scene = loadScene(R"(<scene>
+        <integrator type="path_mis"><string name="aovs" value="emission"/></integrator>
+        <sampler type="independent"><integer name="sampleCount" value="4"/></sampler>
+        <camera type="perspective"><integer name="width" value="24"/><integer name="height" value="16"/>
+            <float name="fov" value="40"/><rfilter type="box"/>
+            <transform name="toWorld"><lookat origin="0,0,0" target="0,0,-1"/></transform></camera>
+        <mesh type="obj"><string name="filename" value="left.obj"/>
+            <transform name="toWorld"><translate value="0,0,-2"/></transform>
+            <emitter type="area"><color name="radiance" value="1, 2, 3"/></emitter></mesh>
+        <mesh type="obj"><string name="filename" value="lowerRight.obj"/>
+            <transform name="toWorld"><translate value="0,0,-2"/></transform>
+            <bsdf type="diffuse"/></mesh>
+        <emitter type="constant"><color name="radiance" value="0.25"/></emitter>
+    </scene>)",
+                           dir.path().string());
+    const RenderResult result = renderScene(*scene, quietOptions(2));
+    const Bitmap emission = result.layers.layer("emission");
+    CHECK(result.layers.channelsOf("emission") == std::vector<std::string>{"R", "G", "B"});
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 24; ++x) {
+            CAPTURE(x, y);
+            const Color3f expected = x < 12  ? Color3f(1.0f, 2.0f, 3.0f)
+                                     : y < 8 ? Color3f(0.25f)
+                                             : Color3f(0.0f);
+            CHECK(emission(y, x).isApprox(expected, 1e-6f));
+        }
+}
+
 TEST_CASE("The variance AOV estimates the variance of each pixel's mean", "[render][aov]") {
     // Eight renders with different seeds: the spread of each pixel across them against
     // the mean of the variance layer, over the image (box filter: pixels independent).

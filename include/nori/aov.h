@@ -20,6 +20,8 @@ enum class AOV {
     Position,    ///< world position of the first hit (0 where the ray escapes)
     SampleCount, ///< samples taken in the pixel (adaptive sampling varies it)
     Variance,    ///< variance of the pixel's mean, from two interleaved half-buffers
+    Emission,    ///< light emitted toward the camera where its ray first hits (emitters'
+                 ///< own pixels, the lights at infinity where it escapes), 0 elsewhere
 };
 
 /// The layer name in the EXR ("albedo") and the names of its channels ("R", "G", "B").
@@ -37,9 +39,11 @@ struct SurfaceAOVs {
     Vector3f normal = Vector3f::Zero();
     float depth = 0.0f;
     Point3f position = Point3f::Zero();
+    Color3f emission{0.0f};
 };
 
-/// Traces a camera ray for its surface AOVs: depth and position at the first hit;
+/// Traces a camera ray for its surface AOVs: depth, position and emission at the first hit
+/// (or the light at infinity where it escapes);
 /// albedo and normal at the first hit whose BSDF is not specular, following up to eight
 /// specular reflections or refractions chosen with random numbers from `seed` (not the
 /// integrator's sampler, whose dimensions stay as they are).

@@ -109,7 +109,7 @@ private:
 
     /// The filtered sums the film keeps: the beauty, the even samples' half of it, and
     /// the surface AOVs (depth as grey).
-    enum Layer { kBeauty, kEvenHalf, kAlbedo, kNormal, kDepth, kPosition, kLayerCount };
+    enum Layer { kBeauty, kEvenHalf, kAlbedo, kNormal, kDepth, kPosition, kEmission, kLayerCount };
 
     Point2i m_offset;
     Vector2i m_size;

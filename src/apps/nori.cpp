@@ -167,7 +167,7 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
         ->type_name("SECONDS");
     app.add_option("--aovs", texts.aovs,
                    "AOV layers to add to the EXR, e.g. albedo,normal (from albedo, normal, "
-                   "depth, position, sampleCount, variance)")
+                   "depth, position, sampleCount, variance, emission)")
         ->type_name("LIST");
     app.add_flag("--denoise", options.denoise,
                  "also write <file>_denoised.exr/.png, denoised by the built-in feature-guided "

@@ -279,7 +279,7 @@ const std::vector<ParameterDoc> &commonParameters(NoriObject::EClassType type) {
          "string",
          "\"\"",
          "AOV layers written beside the beauty in the EXR: a list of albedo, normal, depth, "
-         "position, sampleCount, variance (nori --aovs adds more)"}};
+         "position, sampleCount, variance, emission (nori --aovs adds more)"}};
     static const std::vector<ParameterDoc> sampler = {
         {{"sampleCount"}, "integer", "1", "samples per pixel (nori --spp overrides it)"},
         {{"seed"}, "integer", "0", "selects another set of sample sequences"},

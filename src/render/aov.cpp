@@ -1,5 +1,7 @@
 #include <nori/aov.h>
 #include <nori/bsdf.h>
+#include <nori/emitter.h>
+#include <nori/pathtracing.h>
 #include <nori/pcg32.h>
 #include <nori/raydifferential.h>
 #include <nori/scene.h>
@@ -18,14 +20,15 @@ struct AOVInfo {
     std::vector<std::string> channels;
 };
 
-const std::array<AOVInfo, 6> &aovTable() {
-    static const std::array<AOVInfo, 6> table = {{
+const std::array<AOVInfo, 7> &aovTable() {
+    static const std::array<AOVInfo, 7> table = {{
         {AOV::Albedo, "albedo", {"R", "G", "B"}},
         {AOV::Normal, "normal", {"X", "Y", "Z"}},
         {AOV::Depth, "depth", {"Z"}},
         {AOV::Position, "position", {"X", "Y", "Z"}},
         {AOV::SampleCount, "sampleCount", {"Y"}},
         {AOV::Variance, "variance", {"R", "G", "B"}},
+        {AOV::Emission, "emission", {"R", "G", "B"}},
     }};
     return table;
 }
@@ -74,11 +77,16 @@ SurfaceAOVs traceSurfaceAOVs(const Scene &scene, const Ray3f &cameraRay, uint64_
     Ray3f ray = cameraRay;
     for (int bounce = 0; bounce <= kMaxSpecularBounces; ++bounce) {
         Intersection its;
-        if (!scene.rayIntersect(ray, its))
+        if (!scene.rayIntersect(ray, its)) {
+            if (bounce == 0)
+                result.emission = lightAtInfinity(scene, cameraRay);
             break;
+        }
         if (bounce == 0) {
             result.depth = (its.p - cameraRay.o).norm();
             result.position = its.p;
+            if (const Emitter *emitter = its.shape->getEmitter())
+                result.emission = emitter->eval(EmitterQueryRecord(cameraRay.o, its));
         }
         const BSDF *bsdf = its.shape->getBSDF();
         BSDFQueryRecord bRec(its, its.toLocal(-ray.d));

@@ -34,7 +34,8 @@ FilmBlock::FilmBlock(const Point2i &offset, const Vector2i &size,
                                            has(AOV::Albedo),
                                            has(AOV::Normal),
                                            has(AOV::Depth),
-                                           has(AOV::Position)};
+                                           has(AOV::Position),
+                                           has(AOV::Emission)};
     for (int layer = 0; layer < kLayerCount; ++layer)
         if (layerWanted[layer]) {
             m_layers[layer] = std::make_unique<ImageBlock>(size, filter);
@@ -70,6 +71,8 @@ void FilmBlock::put(const FilmSample &sample) {
         splat(kDepth, Color3f(surface.depth));
     if (m_layers[kPosition])
         splat(kPosition, Color3f(surface.position.array()));
+    if (m_layers[kEmission])
+        splat(kEmission, surface.emission);
 }
 
 void FilmBlock::countSample(int x, int y) {
@@ -131,7 +134,7 @@ void Film::addSplats(const std::vector<std::vector<SplatBuffer::Record>> &lists)
 bool Film::needsSurfaceAOVs() const {
     return std::any_of(m_aovs.begin(), m_aovs.end(), [](AOV aov) {
         return aov == AOV::Albedo || aov == AOV::Normal || aov == AOV::Depth ||
-               aov == AOV::Position;
+               aov == AOV::Position || aov == AOV::Emission;
     });
 }
 
@@ -215,6 +218,9 @@ LayeredImage Film::develop(bool withWeights) const {
             break;
         case AOV::Position:
             values = merge(FilmBlock::kPosition).toBitmap();
+            break;
+        case AOV::Emission:
+            values = merge(FilmBlock::kEmission).toBitmap();
             break;
         case AOV::SampleCount:
             for (const auto &block : m_blocks)
