@@ -27,7 +27,10 @@ RenderResult renderWithFeatures(Scene &scene, int threads = 0) {
 
 RenderResult renderTestScene(const denoiserscenes::DenoiserScene &entry, int spp) {
     // Seed 1: the references used seed 0.
-    return renderWithFeatures(*denoiserscenes::load(entry, NORI_SOURCE_DIR, spp, 1));
+    RenderOptions options = quietOptions(0);
+    options.aovs = denoiserAOVs();
+    options.aovs.push_back(AOV::Emission);
+    return renderScene(*denoiserscenes::load(entry, NORI_SOURCE_DIR, spp, 1), options);
 }
 
 struct Errors {
@@ -36,19 +39,39 @@ struct Errors {
 
 Bitmap boxBlur(const Bitmap &image);
 
-/// relMSE of the noisy and the denoised render at `spp` against the committed reference.
-Errors errorsOn(const std::string &name, int spp) {
+const denoiserscenes::DenoiserScene &sceneNamed(const std::string &name) {
     for (const auto &entry : denoiserscenes::scenes())
-        if (entry.name == name) {
-            const Bitmap reference = Bitmap::load(std::string(NORI_SOURCE_DIR) +
-                                                  "/tests/data/denoiser/" + name + ".exr");
-            const RenderResult noisy = renderTestScene(entry, spp);
-            const Bitmap denoised = denoise(noisy.layers);
-            return {relativeMeanSquaredError(noisy.image, reference),
-                    relativeMeanSquaredError(denoised, reference),
-                    relativeMeanSquaredError(boxBlur(noisy.image), reference)};
-        }
+        if (entry.name == name)
+            return entry;
+    if (name == denoiserscenes::defaultScene().name)
+        return denoiserscenes::defaultScene();
     throw NoriException("no denoiser scene '{}'", name);
+}
+
+/// A denoised render of a scene of the list and what it is measured against.
+struct DenoisedRender {
+    RenderResult noisy;
+    Bitmap denoised, blurred, reference;
+    Mask outsideEmitters; ///< all but the emitters' own pixels and a 2-pixel rim
+
+    Errors errors(const Mask *mask = nullptr) const {
+        return {relativeMeanSquaredError(noisy.image, reference, mask),
+                relativeMeanSquaredError(denoised, reference, mask),
+                relativeMeanSquaredError(blurred, reference, mask)};
+    }
+};
+
+/// Renders `name` at `spp` (0: the scene's own), denoises it, and loads its reference.
+DenoisedRender denoisedRender(const std::string &name, int spp) {
+    const auto &entry = sceneNamed(name);
+    DenoisedRender result;
+    result.noisy = renderTestScene(entry, spp);
+    result.denoised = denoise(result.noisy.layers);
+    result.blurred = boxBlur(result.noisy.image);
+    result.reference = Bitmap::load(denoiserscenes::referencePath(entry, NORI_SOURCE_DIR));
+    result.outsideEmitters =
+        !denoiserscenes::emitterPixels(result.noisy.layers.layer(aovName(AOV::Emission)), 2);
+    return result;
 }
 
 /// A 2×2 floor with a high-contrast checkerboard (albedo 0.8 and 0.1, 8 cells across)
@@ -115,35 +138,81 @@ bool finiteAndNonNegative(const Bitmap &image) {
 
 } // namespace
 
-// The issue's goal: relMSE of the denoised 16-spp image at most 1/8 of the noisy one's.
-// Measured with seed 1: 13.9x (nori-bench-denoiser prints it with 4 and 64 spp).
+// Each check holds the figure reached at 16 spp, seed 1 (nori-bench-denoiser prints it
+// with 4 and 64 spp and an oracle's bound); each has the control of a plain 5×5 blur,
+// which also lowers the noise, but not as far.
 TEST_CASE("Denoising the Cornell box at 16 spp cuts the relMSE eightfold", "[denoiser]") {
-    const auto [noisy, denoised, blurred] = errorsOn("cbox", 16);
+    // The goal: 1/8. Reached: 1/15.0 (noisy 0.0550, denoised 0.00367).
+    const auto [noisy, denoised, blurred] = denoisedRender("cbox", 16).errors();
     INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
     CHECK(denoised * 8.0 <= noisy);
-    // Control: a plain 5×5 blur also lowers the noise, but not eightfold.
     CHECK(blurred * 8.0 > noisy);
 }
 
-// NOT the issue's goal of 8x, which this denoiser misses on these two scenes (measured
-// 6.2x on the textured scene and 1.54x on Veach's plates at 16 spp, seed 1): the
-// highlights of smooth plates and the glossy sphere have no feature that explains them,
-// and Veach's smallest light, one pixel wide, is as noisy as the few samples that hit it.
-// These checks hold the measured gains so that a regression shows; the goal stays open.
-// Veach's gain was 2.2x with lights chosen by power (noisy 0.01136, denoised 0.00519);
-// the light tree (2026-12-03) lowered both (0.00686, 0.00444): the denoiser's output got
-// better, its ratio smaller, as what remains is more of its own residual.
-TEST_CASE("Denoising the textured and Veach scenes at 16 spp lowers the relMSE", "[denoiser]") {
-    {
-        const auto [noisy, denoised, blurred] = errorsOn("textured", 16);
-        INFO("textured: relMSE noisy " << noisy << ", denoised " << denoised);
-        CHECK(denoised * 5.5 <= noisy);
-    }
-    {
-        const auto [noisy, denoised, blurred] = errorsOn("veach", 16);
-        INFO("veach: relMSE noisy " << noisy << ", denoised " << denoised);
-        CHECK(denoised * 1.33 <= noisy);
-    }
+TEST_CASE("Denoising the textured scene at 16 spp cuts the relMSE 6.4-fold", "[denoiser]") {
+    // The goal: 1/8, missed. Reached: 1/6.44 (noisy 0.01723, denoised 0.00267); the
+    // oracle's choice among the filters reaches 1/12.7. Most of what is left is the
+    // mirror sphere's caustic on the floor and the lights it reflects.
+    const auto [noisy, denoised, blurred] = denoisedRender("textured", 16).errors();
+    INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
+    CHECK(denoised * 6.4 <= noisy);
+    CHECK(blurred * 6.4 > noisy);
+}
+
+TEST_CASE("Denoising Veach's plates at 16 spp halves the relMSE outside the lights", "[denoiser]") {
+    // The goal: 1/3 outside the emitters' pixels and a 2-pixel rim, missed. Reached: 1/1.96
+    // (noisy 0.00631, denoised 0.00323); the oracle reaches 1/3.2 there. The emitters'
+    // own pixels (the smallest light is about one pixel wide) stay as noisy as they were
+    // (ratio 1.0), and are measured apart.
+    const DenoisedRender render = denoisedRender("veach", 16);
+    const auto [noisy, denoised, blurred] = render.errors(&render.outsideEmitters);
+    INFO("outside the emitters: relMSE noisy " << noisy << ", denoised " << denoised
+                                               << ", box-blurred " << blurred);
+    REQUIRE(render.outsideEmitters.count() < render.outsideEmitters.size());
+    CHECK(denoised * 1.95 <= noisy);
+    CHECK(blurred * 1.95 > noisy);
+}
+
+TEST_CASE("Denoising the default scene at its 12 spp of photon mapping", "[denoiser]") {
+    // The goal: 1/4 and no smeared fireflies. Reached: 1/3.86 over the whole image (noisy
+    // 0.00394, denoised 0.00102; the oracle: 1/6.7), 1/4.5 outside the light's pixels.
+    const DenoisedRender render = denoisedRender("default", 0);
+    REQUIRE(render.noisy.samplesPerPixel == 12);
+    const auto [noisy, denoised, blurred] = render.errors();
+    INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
+    CHECK(denoised * 3.85 <= noisy);
+    CHECK(blurred * 3.85 > noisy);
+
+    // Fireflies: outside the light's own pixels, 3 pixels of the denoised image are
+    // brighter than the noisy image's 99.9th percentile (1.22) where the reference is not,
+    // all three in the caustic under the glass sphere, where the reference is 1.17 to
+    // 1.20 and the denoiser kept the noisy pixels (within 1 %). A firefly planted in a
+    // dark corner (luminance 100, its variance as one half-buffer sample would give) adds
+    // none: the denoiser takes it for an outlier (kOutlierFactor), which no neighbour
+    // blends in (without that rule, measured: 3 more, a blob of 1.2 to 2.6 around it
+    // where the reference is 0.13); a 5×5 blur smears it over 25 pixels.
+    const size_t unplanted = denoiserscenes::smearedFireflies(
+        render.noisy.image, render.denoised, render.reference, render.outsideEmitters);
+    CHECK(unplanted <= 3);
+    const int fx = 8, fy = 120;
+    Bitmap beauty = render.noisy.layers.layer("");
+    Bitmap variance = render.noisy.layers.layer(aovName(AOV::Variance));
+    beauty(fy, fx) = Color3f(100.0f);
+    variance(fy, fx) = Color3f(100.0f * 100.0f);
+    LayeredImage planted(render.noisy.layers.size());
+    for (const auto &[name, values] : render.noisy.layers.channels())
+        if (name != "R" && name != "G" && name != "B" && name.rfind("variance.", 0) != 0)
+            planted.addChannel(name, values);
+    planted.addLayer("", {"R", "G", "B"}, beauty);
+    planted.addLayer(aovName(AOV::Variance), aovChannels(AOV::Variance), variance);
+    const Bitmap denoisedPlanted = denoise(planted);
+    const size_t smeared = denoiserscenes::smearedFireflies(
+        beauty, denoisedPlanted, render.reference, render.outsideEmitters);
+    const size_t blurredSmear = denoiserscenes::smearedFireflies(
+        beauty, boxBlur(beauty), render.reference, render.outsideEmitters);
+    INFO("planted firefly: the denoiser flags " << smeared << ", a 5x5 blur " << blurredSmear);
+    CHECK(smeared <= unplanted);
+    CHECK(blurredSmear >= 25);
 }
 
 TEST_CASE("The denoiser keeps the edges of a checkerboard", "[denoiser]") {
@@ -246,6 +315,37 @@ TEST_CASE("nori --denoise and nori-imgtool denoise write the denoised image", "[
     CHECK(meanSquaredError(first, second) == 0.0);
     CHECK(runCommand(IMGTOOL_EXECUTABLE, {"denoise", stem + ".exr"}).exitCode == 0);
     CHECK(std::filesystem::exists(stem + "_denoised.png"));
+
+    // A split render merged with --denoise: the same denoiser on the merged image as the
+    // image tool gives, and the same as the whole render's (the parts sum to its samples).
+    std::vector<std::string> parts;
+    for (int k = 1; k <= 2; ++k) {
+        const std::string part = (dir.path() / fmt::format("part{}", k)).string();
+        const auto partRun = runNori({"-D", "integrator=path_mis", "-D", "size=48", "-D", "spp=4",
+                                      "--aovs", "albedo,normal,depth,variance", "--part",
+                                      fmt::format("{}/2", k), "--no-progress", "-o", part, scene});
+        INFO(partRun.output);
+        REQUIRE(partRun.exitCode == 0);
+        parts.push_back(part + ".exr");
+    }
+    const std::string merged = (dir.path() / "merged").string();
+    const auto mergeRun = runNori({"merge", parts[0], parts[1], "--denoise", "-o", merged});
+    INFO(mergeRun.output);
+    REQUIRE(mergeRun.exitCode == 0);
+    const auto mergedAgain =
+        runCommand(IMGTOOL_EXECUTABLE, {"denoise", merged + ".exr", "-o", merged + "_again.exr"});
+    REQUIRE(mergedAgain.exitCode == 0);
+    const Bitmap mergedDenoised = Bitmap::load(merged + "_denoised.exr");
+    CHECK(meanSquaredError(mergedDenoised, Bitmap::load(merged + "_again.exr")) == 0.0);
+    // The merged noisy image equals the whole render's to float rounding, and so do
+    // their denoised images.
+    float brightest = 0.0f;
+    for (int y = 0; y < first.height(); ++y)
+        for (int x = 0; x < first.width(); ++x)
+            brightest = std::max(brightest, first(y, x).maxCoeff());
+    CHECK(std::sqrt(meanSquaredError(Bitmap::load(merged + ".exr"), Bitmap::load(stem + ".exr"))) <=
+          1e-5 * brightest);
+    CHECK(std::sqrt(meanSquaredError(mergedDenoised, first)) <= 1e-4 * brightest);
 
     // A render without the layers: an error naming the file and the first missing layer.
     const auto plain =

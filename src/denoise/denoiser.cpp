@@ -31,6 +31,7 @@ constexpr int kUnknowns = 1 + kFeatures + 2; // intercept, feature and screen sl
 using Design = Eigen::Matrix<float, kUnknowns, 1>;
 using Gram = Eigen::Matrix<float, kUnknowns, kUnknowns>;
 using Moments = Eigen::Matrix<float, kUnknowns, 3>;
+constexpr int kRowSize = kUnknowns + 3; // a neighbour's design row and colour
 
 constexpr int kTileSize = 32;
 /// Neighbours whose weight is below this add nothing worth their cost.
@@ -38,22 +39,28 @@ constexpr float kMinWeight = 1e-4f;
 /// Rousselle et al. 2012's ε in the distance's denominator: only noise-free pixels reach it.
 constexpr float kDistanceEpsilon = 1e-10f;
 /// The variance estimate of one pixel from two half-buffers has one degree of freedom
-/// per channel; its mean over a (2·2 + 1)² box is steadier by a factor five.
-constexpr int kVarianceRadius = 2;
+/// per channel; its mean over a (2·3 + 1)² box has a seventh of its standard deviation.
+constexpr int kVarianceRadius = 3;
 /// That mean is taken of the relative variance σ²/(C̄² + ε), C̄ the colour's mean over a
 /// 3×3 box, and scaled back: a plain box of σ² would spread a highlight's variance onto
 /// the dark pixels beside it, whose variance-normalised distances to the highlight would
 /// then be small enough to blend it in.
 constexpr int kVarianceScaleRadius = 1;
 constexpr float kVarianceScaleEpsilon = 0.01f;
-/// SURE of a single pixel is too noisy to choose by; the votes of a 7×7 box are not.
-constexpr int kVoteRadius = 3;
+/// SURE of a single pixel is too noisy to choose by; the votes of a 5×5 box are not.
+constexpr int kVoteRadius = 2;
+/// A pixel whose demodulated colour is more than this many times that of the brightest
+/// of its eight neighbours is an outlier: a firefly, or a light one pixel wide. It is no
+/// other pixel's neighbour and its variance is not spread onto theirs, so that a firefly
+/// is not smeared into a blob; its own pixel still chooses among the candidates (a small
+/// light keeps its noisy value, a firefly of huge variance is filtered away).
+constexpr float kOutlierFactor = 4.0f;
 /// The colour is divided by (albedo + this): black albedo (background, emitters) keeps
 /// a finite scale, and dark texels do not amplify noise beyond ten times.
 constexpr float kDemodulationOffset = 0.1f;
 
 /// What the filter reads, as planes of floats; invalid pixels (non-finite or negative
-/// colour) are never anyone's neighbour.
+/// colour, outliers) are never anyone's neighbour.
 struct Inputs {
     int width = 0, height = 0;
     std::array<Plane, 3> colour;     ///< demodulated: the beauty / modulation
@@ -81,6 +88,13 @@ Plane boxFilter(const Plane &plane, int radius) {
     return result;
 }
 
+/// The mean of `plane` over the pixels of `mask` in a (2r + 1)² box clamped to the image
+/// (0 where the box has none).
+Plane maskedBoxFilter(const Plane &plane, const Plane &mask, int radius) {
+    const Plane count = boxFilter(mask, radius);
+    return (count > 0.0f).select(boxFilter(plane * mask, radius) / count, 0.0f);
+}
+
 /// Channel `k` of a layer as a plane; non-finite values become 0.
 Plane channelPlane(const Bitmap &layer, int k) {
     Plane plane(layer.rows(), layer.cols());
@@ -90,6 +104,28 @@ Plane channelPlane(const Bitmap &layer, int k) {
             plane(y, x) = std::isfinite(value) ? value : 0.0f;
         }
     return plane;
+}
+
+/// Marks the outliers among the valid pixels invalid (kOutlierFactor): by the sum of the
+/// demodulated colour's channels, so that texture edges are not outliers.
+void markOutliers(Inputs &inputs) {
+    const Plane brightness = inputs.colour[0] + inputs.colour[1] + inputs.colour[2];
+    const auto valid = inputs.valid; // the outliers are judged against the inputs' validity
+    for (int y = 0; y < inputs.height; ++y)
+        for (int x = 0; x < inputs.width; ++x) {
+            if (!valid(y, x))
+                continue;
+            float brightestNeighbour = 0.0f;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int qx = x + dx, qy = y + dy;
+                    if ((dx != 0 || dy != 0) && qx >= 0 && qx < inputs.width && qy >= 0 &&
+                        qy < inputs.height && valid(qy, qx))
+                        brightestNeighbour = std::max(brightestNeighbour, brightness(qy, qx));
+                }
+            if (brightness(y, x) > kOutlierFactor * brightestNeighbour)
+                inputs.valid(y, x) = false;
+        }
 }
 
 Inputs readInputs(const LayeredImage &image) {
@@ -113,12 +149,20 @@ Inputs readInputs(const LayeredImage &image) {
         inputs.features[3 + k] = channelPlane(normal, k);
         inputs.modulation[k] = inputs.features[k] + kDemodulationOffset;
         inputs.colour[k] = channelPlane(beauty, k).max(0.0f) / inputs.modulation[k];
+    }
+    markOutliers(inputs);
+    const Plane valid = inputs.valid.cast<float>();
+    for (int k = 0; k < 3; ++k) {
         // Var(C / m) = Var(C) / m², the albedo being (nearly) noise-free.
         const Plane demodulatedVariance =
             channelPlane(variance, k).max(0.0f) / inputs.modulation[k].square();
         const Plane scale =
-            boxFilter(inputs.colour[k], kVarianceScaleRadius).square() + kVarianceScaleEpsilon;
-        inputs.variance[k] = boxFilter(demodulatedVariance / scale, kVarianceRadius) * scale;
+            maskedBoxFilter(inputs.colour[k], valid, kVarianceScaleRadius).square() +
+            kVarianceScaleEpsilon;
+        const Plane smoothed =
+            maskedBoxFilter(demodulatedVariance / scale, valid, kVarianceRadius) * scale;
+        // Invalid pixels keep their own estimate: theirs is not their neighbours'.
+        inputs.variance[k] = inputs.valid.select(smoothed, demodulatedVariance);
     }
     // Depth in units of the farthest depth seen, so that its slope's ridge is
     // scale-free like the other features'.
@@ -135,95 +179,133 @@ struct Candidates {
     std::vector<Plane> sure;                    ///< [candidate]
 };
 
+/// `plane` grown by `border` pixels on every side, each new pixel a copy of the nearest
+/// image pixel, so that windows shifted past the image's edge need no clamping.
+Plane padded(const Plane &plane, int border) {
+    const Eigen::Index rows = plane.rows(), cols = plane.cols();
+    Plane result(rows + 2 * border, cols + 2 * border);
+    for (Eigen::Index y = 0; y < result.rows(); ++y)
+        for (Eigen::Index x = 0; x < result.cols(); ++x)
+            result(y, x) = plane(std::clamp<Eigen::Index>(y - border, 0, rows - 1),
+                                 std::clamp<Eigen::Index>(x - border, 0, cols - 1));
+    return result;
+}
+
 class TileFilter {
 public:
     /// Candidates 2b and 2b + 1 are the first-order fit and the weighted mean with
     /// bandwidth b.
     TileFilter(const Inputs &inputs, const DenoiserSettings &settings, Candidates &out)
-        : m_in(inputs), m_settings(settings), m_out(out) {
+        : m_in(inputs), m_settings(settings), m_out(out),
+          m_border(settings.searchRadius + settings.patchRadius) {
         for (float k : settings.bandwidths)
             m_inverseBandwidthSquared.push_back(1.0f / (k * k));
+        for (int k = 0; k < 3; ++k) {
+            m_paddedColour[k] = padded(inputs.colour[k], m_border);
+            m_paddedVariance[k] = padded(inputs.variance[k], m_border);
+        }
     }
 
     void filter(int x0, int y0, int width, int height) const {
+        const int r = m_settings.searchRadius, side = 2 * r + 1;
+        const Eigen::Array<float, Eigen::Dynamic, Eigen::Dynamic> distances =
+            patchDistances(x0, y0, width, height);
+
+        // Per pixel, the weighted normal equations of its window, one set per bandwidth,
+        // as one product Xᵀ·W·X of the neighbours' rows X = (design, colour).
         const size_t bandwidths = m_inverseBandwidthSquared.size();
-        const size_t pixels = static_cast<size_t>(width) * height;
-        std::vector<Gram> grams(bandwidths * pixels, Gram::Zero());
-        std::vector<Moments> moments(bandwidths * pixels, Moments::Zero());
-        const int r = m_settings.searchRadius, f = m_settings.patchRadius;
-        const float patchArea = static_cast<float>((2 * f + 1) * (2 * f + 1));
-        Plane pixelDistance(height + 2 * f, width + 2 * f);
-        Plane rowSums(height + 2 * f, width);
-
-        for (int oy = -r; oy <= r; ++oy)
-            for (int ox = -r; ox <= r; ++ox) {
-                // Per-pixel distances over the tile grown by the patch radius, then their
-                // patch means by separable box sums.
-                for (int y = 0; y < height + 2 * f; ++y)
-                    for (int x = 0; x < width + 2 * f; ++x)
-                        pixelDistance(y, x) = distance(x0 + x - f, y0 + y - f, ox, oy);
-                for (int y = 0; y < height + 2 * f; ++y)
-                    for (int x = 0; x < width; ++x)
-                        rowSums(y, x) = pixelDistance.row(y).segment(x, 2 * f + 1).sum();
-
-                for (int y = 0; y < height; ++y) {
-                    const int py = y0 + y, qy = py + oy;
+        Eigen::Matrix<float, Eigen::Dynamic, kRowSize> rows(side * side, kRowSize);
+        Eigen::ArrayXf neighbourDistances(side * side), weights(side * side);
+        const Eigen::Index columns = static_cast<Eigen::Index>(bandwidths) * kRowSize;
+        Eigen::MatrixXf weighted(side * side, columns), products(kRowSize, columns);
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const int px = x0 + x, py = y0 + y;
+                const Eigen::Index pixel = static_cast<Eigen::Index>(y) * width + x;
+                Eigen::Index count = 0;
+                for (int oy = -r; oy <= r; ++oy) {
+                    const int qy = py + oy;
                     if (qy < 0 || qy >= m_in.height)
                         continue;
-                    for (int x = 0; x < width; ++x) {
-                        const int px = x0 + x, qx = px + ox;
+                    for (int ox = -r; ox <= r; ++ox) {
+                        const int qx = px + ox;
                         if (qx < 0 || qx >= m_in.width || !m_in.valid(qy, qx))
                             continue;
-                        const float patchDistance =
-                            std::max(0.0f, rowSums.col(x).segment(y, 2 * f + 1).sum() / patchArea);
-                        const Design design = designRow(px, py, qx, qy, ox, oy);
-                        const Eigen::Vector3f colour = colourAt(qx, qy);
-                        const size_t pixel = static_cast<size_t>(y) * width + x;
-                        for (size_t b = 0; b < bandwidths; ++b) {
-                            const float weight =
-                                std::exp(-patchDistance * m_inverseBandwidthSquared[b]);
-                            if (weight < kMinWeight)
-                                continue;
-                            const Design weighted = weight * design;
-                            grams[b * pixels + pixel].noalias() += weighted * design.transpose();
-                            moments[b * pixels + pixel].noalias() += weighted * colour.transpose();
-                        }
+                        neighbourDistances[count] = distances((oy + r) * side + ox + r, pixel);
+                        rows.row(count) << designRow(px, py, qx, qy, ox, oy).transpose(),
+                            colourAt(qx, qy).transpose();
+                        ++count;
                     }
                 }
-            }
-
-        for (size_t b = 0; b < bandwidths; ++b)
-            for (int y = 0; y < height; ++y)
-                for (int x = 0; x < width; ++x) {
-                    const size_t pixel = static_cast<size_t>(y) * width + x;
-                    const Gram &gram = grams[b * pixels + pixel];
-                    const Moments &moment = moments[b * pixels + pixel];
-                    firstOrderFit(gram, moment, 2 * b, x0 + x, y0 + y);
-                    weightedMean(gram, moment, 2 * b + 1, x0 + x, y0 + y);
+                // All bandwidths in one product: Xᵀ·[W₀X | W₁X | ...].
+                const auto neighbours = rows.topRows(count);
+                for (size_t b = 0; b < bandwidths; ++b) {
+                    weights.head(count) =
+                        (neighbourDistances.head(count) * -m_inverseBandwidthSquared[b]).exp();
+                    // Neighbours below kMinWeight add nothing worth keeping.
+                    weighted.block(0, b * kRowSize, count, kRowSize) =
+                        neighbours.array().colwise() *
+                        (weights.head(count) < kMinWeight).select(0.0f, weights.head(count));
                 }
+                products.noalias() = neighbours.transpose() * weighted.topRows(count);
+                for (size_t b = 0; b < bandwidths; ++b) {
+                    const Gram gram = products.block<kUnknowns, kUnknowns>(0, b * kRowSize);
+                    const Moments moment =
+                        products.block<kUnknowns, 3>(0, b * kRowSize + kUnknowns);
+                    firstOrderFit(gram, moment, 2 * b, px, py);
+                    weightedMean(gram, moment, 2 * b + 1, px, py);
+                }
+            }
     }
 
 private:
-    Eigen::Vector3f colourAt(int x, int y) const {
-        return {m_in.colour[0](y, x), m_in.colour[1](y, x), m_in.colour[2](y, x)};
+    /// The patch distance of every pixel p of the tile to each neighbour q = p + o of
+    /// its window: the mean over the (2f + 1)² patches around p and q and over the
+    /// channels of Rousselle et al. 2012's pixel distance (eq. 4, bandwidth k = 1),
+    /// ((C_p − C_q)² − (σ²_p + min(σ²_p, σ²_q))) / (ε + σ²_p + σ²_q): the squared
+    /// difference less the variance it is expected to have, in units of the pair's
+    /// variance. One row per offset o (row-major over the window), one column per pixel
+    /// of the tile (row-major), so that a pixel's distances lie together.
+    Eigen::Array<float, Eigen::Dynamic, Eigen::Dynamic> patchDistances(int x0, int y0, int width,
+                                                                       int height) const {
+        const int r = m_settings.searchRadius, f = m_settings.patchRadius, side = 2 * r + 1;
+        const int grownWidth = width + 2 * f, grownHeight = height + 2 * f;
+        const float normalisation = 1.0f / static_cast<float>(3 * (2 * f + 1) * (2 * f + 1));
+        Eigen::Array<float, Eigen::Dynamic, Eigen::Dynamic> distances(side * side, width * height);
+        Plane pixelDistance(grownHeight, grownWidth), rowSums(grownHeight, width);
+        Plane patch(height, width);
+        // The tile grown by the patch radius, in the padded planes' coordinates.
+        const int top = y0 - f + m_border, left = x0 - f + m_border;
+        for (int oy = -r; oy <= r; ++oy)
+            for (int ox = -r; ox <= r; ++ox) {
+                pixelDistance.setZero();
+                for (int k = 0; k < 3; ++k) {
+                    const auto cp = m_paddedColour[k].block(top, left, grownHeight, grownWidth);
+                    const auto cq =
+                        m_paddedColour[k].block(top + oy, left + ox, grownHeight, grownWidth);
+                    const auto vp = m_paddedVariance[k].block(top, left, grownHeight, grownWidth);
+                    const auto vq =
+                        m_paddedVariance[k].block(top + oy, left + ox, grownHeight, grownWidth);
+                    pixelDistance +=
+                        ((cp - cq).square() - (vp + vp.min(vq))) / (kDistanceEpsilon + vp + vq);
+                }
+                // Patch sums by separable box sums: along rows, then along columns.
+                rowSums = pixelDistance.leftCols(width);
+                for (int i = 1; i <= 2 * f; ++i)
+                    rowSums += pixelDistance.middleCols(i, width);
+                patch = rowSums.topRows(height);
+                for (int i = 1; i <= 2 * f; ++i)
+                    patch += rowSums.middleRows(i, height);
+                distances.row((oy + r) * side + ox + r) =
+                    (Eigen::Map<const Eigen::ArrayXf>(patch.data(), patch.size()) * normalisation)
+                        .max(0.0f)
+                        .transpose();
+            }
+        return distances;
     }
 
-    /// Rousselle et al. 2012's distance between pixels p and q = p + o, averaged over
-    /// the channels: the squared difference less the variance it is expected to have,
-    /// in units of the pair's variance (bandwidth k = 1; clamped coordinates).
-    float distance(int px, int py, int ox, int oy) const {
-        px = std::clamp(px, 0, m_in.width - 1);
-        py = std::clamp(py, 0, m_in.height - 1);
-        const int qx = std::clamp(px + ox, 0, m_in.width - 1);
-        const int qy = std::clamp(py + oy, 0, m_in.height - 1);
-        float sum = 0.0f;
-        for (int k = 0; k < 3; ++k) {
-            const float vp = m_in.variance[k](py, px), vq = m_in.variance[k](qy, qx);
-            const float difference = m_in.colour[k](py, px) - m_in.colour[k](qy, qx);
-            sum +=
-                (difference * difference - (vp + std::min(vp, vq))) / (kDistanceEpsilon + vp + vq);
-        }
-        return sum / 3.0f;
+    Eigen::Vector3f colourAt(int x, int y) const {
+        return {m_in.colour[0](y, x), m_in.colour[1](y, x), m_in.colour[2](y, x)};
     }
 
     /// The regression's row for neighbour q of p: 1, the features relative to p's, and
@@ -296,6 +378,9 @@ private:
     const DenoiserSettings &m_settings;
     Candidates &m_out;
     std::vector<float> m_inverseBandwidthSquared;
+    /// The colour and its variance, padded by the search and patch radii.
+    int m_border;
+    std::array<Plane, 3> m_paddedColour, m_paddedVariance;
 };
 
 } // namespace
@@ -305,23 +390,27 @@ const std::vector<AOV> &denoiserAOVs() {
     return aovs;
 }
 
-Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
+namespace {
+
+void checkSettings(const DenoiserSettings &settings) {
     if (settings.bandwidths.empty() || settings.searchRadius < 0 || settings.patchRadius < 0 ||
         !(settings.ridge >= 0.0f))
         throw NoriException("denoise: needs a bandwidth, non-negative radii and ridge");
     for (float k : settings.bandwidths)
         if (!(k > 0.0f) || !std::isfinite(k))
             throw NoriException("denoise: bandwidths must be positive, got {}", k);
-    const Inputs inputs = readInputs(image);
-    const int width = inputs.width, height = inputs.height;
+}
 
+/// Every candidate filter's output and SURE; the last candidate is the noisy image.
+Candidates filterCandidates(const Inputs &inputs, const DenoiserSettings &settings) {
+    const int width = inputs.width, height = inputs.height;
     Candidates candidates;
     for (size_t c = 0; c < 2 * settings.bandwidths.size() + 1; ++c) {
         candidates.filtered.push_back(
             {Plane(height, width), Plane(height, width), Plane(height, width)});
         candidates.sure.emplace_back(height, width);
     }
-    // The last candidate is the noisy image itself, whose error is its variance.
+    // The noisy image's error is its variance.
     {
         const size_t identity = candidates.sure.size() - 1;
         candidates.sure[identity].setZero();
@@ -341,9 +430,45 @@ Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
                               std::min(kTileSize, height - y0));
         });
     });
+    return candidates;
+}
+
+/// A candidate's demodulated colour times the modulation, finite and non-negative.
+Color3f remodulated(const Inputs &inputs, const Eigen::Vector3f &colour, int x, int y) {
+    Color3f result;
+    for (int k = 0; k < 3; ++k) {
+        const float value = colour[k] * inputs.modulation[k](y, x);
+        result[k] = std::isfinite(value) ? std::max(0.0f, value) : 0.0f;
+    }
+    return result;
+}
+
+} // namespace
+
+std::vector<Bitmap> denoiserCandidates(const LayeredImage &image,
+                                       const DenoiserSettings &settings) {
+    checkSettings(settings);
+    const Inputs inputs = readInputs(image);
+    const Candidates candidates = filterCandidates(inputs, settings);
+    std::vector<Bitmap> result;
+    for (const auto &filtered : candidates.filtered) {
+        Bitmap &bitmap = result.emplace_back(image.size());
+        for (int y = 0; y < inputs.height; ++y)
+            for (int x = 0; x < inputs.width; ++x)
+                bitmap(y, x) = remodulated(
+                    inputs, {filtered[0](y, x), filtered[1](y, x), filtered[2](y, x)}, x, y);
+    }
+    return result;
+}
+
+Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
+    checkSettings(settings);
+    const Inputs inputs = readInputs(image);
+    const int width = inputs.width, height = inputs.height;
+    const Candidates candidates = filterCandidates(inputs, settings);
 
     // Each pixel votes for the candidate of least SURE at it, and counts the votes of
-    // the candidates in a (2·3 + 1)² box: SURE of one pixel is too noisy to choose by,
+    // the candidates in a (2·2 + 1)² box: SURE of one pixel is too noisy to choose by,
     // and a vote, unlike the box's mean SURE, cannot be swamped by a few neighbours of
     // huge variance (an emitter's edge beside a black background).
     const size_t count = candidates.sure.size();
@@ -374,10 +499,7 @@ Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings) {
                     blended[k] += weight * candidates.filtered[c][k](y, x);
             }
             // Every pixel casts a vote inside its own box, so totalWeight > 0.
-            for (int k = 0; k < 3; ++k) {
-                const float value = blended[k] / totalWeight * inputs.modulation[k](y, x);
-                result(y, x)[k] = std::isfinite(value) ? std::max(0.0f, value) : 0.0f;
-            }
+            result(y, x) = remodulated(inputs, blended / totalWeight, x, y);
         }
     return result;
 }

@@ -31,4 +31,10 @@ const std::vector<AOV> &denoiserAOVs();
 /// result is finite and non-negative.
 Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings = {});
 
+/// The candidates denoise() blends, before it chooses: for each bandwidth b of the
+/// settings the first-order fit (index 2b) and the weighted mean (2b + 1), then the
+/// noisy image. For measuring the choice against an oracle that knows the reference.
+std::vector<Bitmap> denoiserCandidates(const LayeredImage &image,
+                                       const DenoiserSettings &settings = {});
+
 } // namespace nori
