@@ -50,11 +50,12 @@ constexpr float kVarianceScaleEpsilon = 0.01f;
 /// SURE of a single pixel is too noisy to choose by; the votes of a 5×5 box are not.
 constexpr int kVoteRadius = 2;
 /// A pixel whose demodulated colour is more than this many times that of the brightest
-/// of its eight neighbours is an outlier: a firefly, or a light one pixel wide. It is no
+/// of its eight neighbours is an outlier: a firefly, a speck of a caustic, or a light one
+/// pixel wide. It is no
 /// other pixel's neighbour and its variance is not spread onto theirs, so that a firefly
 /// is not smeared into a blob; its own pixel still chooses among the candidates (a small
 /// light keeps its noisy value, a firefly of huge variance is filtered away).
-constexpr float kOutlierFactor = 4.0f;
+constexpr float kOutlierFactor = 2.0f;
 /// The colour is divided by (albedo + this): black albedo (background, emitters) keeps
 /// a finite scale, and dark texels do not amplify noise beyond ten times.
 constexpr float kDemodulationOffset = 0.1f;
