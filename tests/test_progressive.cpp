@@ -158,8 +158,9 @@ TEST_CASE("AOVs: the albedo, normal, depth and position of a plane", "[render][a
             // the pixel (it varies smoothly, so 16 Sobol' samples match it to ~0.1%).
             double expected = 0.0;
             for (int s = 0; s < 64; ++s) {
+                const int row = s / 8, column = s % 8;
                 Ray3f ray;
-                camera.sampleRay(ray, Point2f(x + (s % 8 + 0.5f) / 8, y + (s / 8 + 0.5f) / 8),
+                camera.sampleRay(ray, Point2f(x + (column + 0.5f) / 8, y + (row + 0.5f) / 8),
                                  Point2f(0.5f, 0.5f));
                 expected += (onPlane - ray.o).dot(normal) / ray.d.dot(normal) / 64.0;
             }

@@ -174,6 +174,7 @@ void writeCrops(const std::string &file, int threads) {
     }
     canvas.savePNG(file);
     std::vector<std::string> names;
+    names.reserve(crops.size());
     for (const Crop &crop : crops)
         names.push_back(crop.scene->name);
     std::cout << fmt::format("wrote {} (rows: {}; columns: noisy, denoised, reference)\n", file,

@@ -184,7 +184,7 @@ struct Candidates {
 /// image pixel, so that windows shifted past the image's edge need no clamping.
 Plane padded(const Plane &plane, int border) {
     const Eigen::Index rows = plane.rows(), cols = plane.cols();
-    Plane result(rows + 2 * border, cols + 2 * border);
+    Plane result(rows + 2 * Eigen::Index{border}, cols + 2 * Eigen::Index{border});
     for (Eigen::Index y = 0; y < result.rows(); ++y)
         for (Eigen::Index x = 0; x < result.cols(); ++x)
             result(y, x) = plane(std::clamp<Eigen::Index>(y - border, 0, rows - 1),

@@ -58,6 +58,7 @@ std::vector<AOV> parseAOVList(const std::string &list, const std::string &where)
                                         [&](const AOVInfo &info) { return entry == info.name; });
         if (found == table.end()) {
             std::vector<std::string> names;
+            names.reserve(table.size());
             for (const AOVInfo &info : table)
                 names.push_back(info.name);
             std::string hint = didYouMean(entry, names);
