@@ -142,7 +142,7 @@ bool finiteAndNonNegative(const Bitmap &image) {
 // with 4 and 64 spp and an oracle's bound); each has the control of a plain 5×5 blur,
 // which also lowers the noise, but not as far.
 TEST_CASE("Denoising the Cornell box at 16 spp cuts the relMSE eightfold", "[denoiser]") {
-    // The goal: 1/8. Reached: 1/14.9 (noisy 0.0550, denoised 0.00370).
+    // The goal: 1/8. Reached: 1/15.0 (noisy 0.0550, denoised 0.00367).
     const auto [noisy, denoised, blurred] = denoisedRender("cbox", 16).errors();
     INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
     CHECK(denoised * 8.0 <= noisy);
@@ -174,14 +174,14 @@ TEST_CASE("Denoising Veach's plates at 16 spp halves the relMSE outside the ligh
 }
 
 TEST_CASE("Denoising the default scene at its 12 spp of photon mapping", "[denoiser]") {
-    // The goal: 1/4 and no smeared fireflies. Reached: 1/3.86 over the whole image (noisy
-    // 0.00394, denoised 0.00102; the oracle: 1/6.7), 1/4.5 outside the light's pixels.
+    // The goal: 1/4 and no smeared fireflies, missed. Reached: 1/3.92 over the whole image
+    // (noisy 0.00394, denoised 0.00101; the oracle: 1/6.9), 1/4.6 outside the light's pixels.
     const DenoisedRender render = denoisedRender("default", 0);
     REQUIRE(render.noisy.samplesPerPixel == 12);
     const auto [noisy, denoised, blurred] = render.errors();
     INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
-    CHECK(denoised * 3.85 <= noisy);
-    CHECK(blurred * 3.85 > noisy);
+    CHECK(denoised * 3.9 <= noisy);
+    CHECK(blurred * 3.9 > noisy);
 
     // Fireflies: outside the light's own pixels, 3 pixels of the denoised image are
     // brighter than the noisy image's 99.9th percentile (1.22) where the reference is not,

@@ -171,6 +171,34 @@ TEST_CASE("AOVs: the albedo, normal, depth and position of a plane", "[render][a
     CHECK(result.layers.channelsOf("normal") == std::vector<std::string>{"X", "Y", "Z"});
 }
 
+TEST_CASE("AOVs: behind smooth glass, the albedo of what it refracts", "[render][aov]") {
+    // A glass ball fills the middle of the view of a diffuse plane: near its centre every
+    // camera ray refracts far more likely than it reflects (F ≈ 4 %), so the albedo there is
+    // the plane's, exactly, and not a mix with the black that the reflections see.
+    TempDir dir;
+    dir.write("quad.obj", "v -10 -10 0\nv 10 -10 0\nv 10 10 0\nv -10 10 0\nf 1 2 3 4\n");
+    auto scene = loadScene(R"(<scene>
+        <integrator type="path_mis"><string name="aovs" value="albedo"/></integrator>
+        <sampler type="independent"><integer name="sampleCount" value="64"/></sampler>
+        <camera type="perspective"><integer name="width" value="16"/><integer name="height" value="16"/>
+            <float name="fov" value="40"/><rfilter type="box"/>
+            <transform name="toWorld"><lookat origin="0,0,0" target="0,0,-1"/></transform></camera>
+        <mesh type="sphere"><point name="center" value="0,0,-2"/><float name="radius" value="0.5"/>
+            <bsdf type="dielectric"/></mesh>
+        <mesh type="obj"><string name="filename" value="quad.obj"/>
+            <transform name="toWorld"><translate value="0,0,-4"/></transform>
+            <bsdf type="diffuse"><color name="albedo" value="0.2, 0.4, 0.6"/></bsdf></mesh>
+        <emitter type="point"><point name="position" value="0,0,0"/><color name="power" value="10"/></emitter>
+    </scene>)",
+                           dir.path().string());
+    const Bitmap albedo = renderScene(*scene, quietOptions(2)).layers.layer("albedo");
+    for (int y = 6; y < 10; ++y)
+        for (int x = 6; x < 10; ++x) {
+            CAPTURE(x, y);
+            CHECK(albedo(y, x).isApprox(Color3f(0.2f, 0.4f, 0.6f), 1e-5f));
+        }
+}
+
 TEST_CASE("AOVs: emission is the light a camera ray meets first", "[render][aov]") {
     // Seen from the origin along −z, with a box filter: the left half of the image is an
     // area light of radiance (1, 2, 3) facing the camera, the lower right quarter a

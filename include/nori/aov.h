@@ -43,10 +43,11 @@ struct SurfaceAOVs {
 };
 
 /// Traces a camera ray for its surface AOVs: depth, position and emission at the first hit
-/// (or the light at infinity where it escapes);
-/// albedo and normal at the first hit whose BSDF is not specular, following up to eight
-/// specular reflections or refractions chosen with random numbers from `seed` (not the
-/// integrator's sampler, whose dimensions stay as they are).
+/// (or the light at infinity where it escapes); albedo and normal at the first hit whose
+/// BSDF is not specular, following up to eight specular reflections or refractions:
+/// through smooth glass (BSDF::discreteLobes) its more probable lobe, through other
+/// specular BSDFs a lobe sampled with random numbers from `seed` (not the integrator's
+/// sampler, whose dimensions stay as they are).
 SurfaceAOVs traceSurfaceAOVs(const Scene &scene, const Ray3f &cameraRay, uint64_t seed);
 
 } // namespace nori

@@ -96,9 +96,27 @@ SurfaceAOVs traceSurfaceAOVs(const Scene &scene, const Ray3f &cameraRay, uint64_
             result.normal = its.shFrame.n;
             break;
         }
-        const float u = random.nextFloat();
-        if ((bsdf->sample(bRec, Point2f(u, random.nextFloat())) == 0.0f).all())
-            break;
+        // Smooth glass follows its more probable lobe (through it, mostly), so that the
+        // features behind glass are those of one surface, not a noisy mix of the reflected
+        // and the refracted one (Intel Open Image Denoise's guidance for its albedo);
+        // other specular BSDFs are sampled.
+        DiscreteLobe lobes[BSDF::kMaxDiscreteLobes];
+        const int lobeCount = bsdf->discreteLobes(bRec, lobes);
+        if (lobeCount > 0) {
+            const DiscreteLobe *likeliest = std::max_element(
+                lobes, lobes + lobeCount, [](const DiscreteLobe &a, const DiscreteLobe &b) {
+                    return a.probability < b.probability;
+                });
+            if (!(likeliest->probability > 0.0f))
+                break;
+            bRec.wo = likeliest->wo;
+            bRec.eta = likeliest->eta;
+            bRec.measure = EDiscrete;
+        } else {
+            const float u = random.nextFloat();
+            if ((bsdf->sample(bRec, Point2f(u, random.nextFloat())) == 0.0f).all())
+                break;
+        }
         ray = spawnScatteredRay(its, ray, bRec);
     }
     return result;
