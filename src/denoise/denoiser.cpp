@@ -51,10 +51,10 @@ constexpr float kVarianceScaleEpsilon = 0.01f;
 constexpr int kVoteRadius = 2;
 /// A pixel whose demodulated colour is more than this many times that of the brightest
 /// of its eight neighbours is an outlier: a firefly, a speck of a caustic, or a light one
-/// pixel wide. It is no
-/// other pixel's neighbour and its variance is not spread onto theirs, so that a firefly
-/// is not smeared into a blob; its own pixel still chooses among the candidates (a small
-/// light keeps its noisy value, a firefly of huge variance is filtered away).
+/// pixel wide. It is no other pixel's neighbour and its variance is not spread onto
+/// theirs, so that a firefly is not smeared into a blob; its own pixel still chooses among
+/// the candidates (a small light keeps its noisy value, a firefly of huge variance is
+/// filtered away).
 constexpr float kOutlierFactor = 2.0f;
 /// The colour is divided by (albedo + this): black albedo (background, emitters) keeps
 /// a finite scale, and dark texels do not amplify noise beyond ten times.
