@@ -123,25 +123,40 @@ TEST_CASE("A time budget stops within one pass of it", "[render][progressive]") 
     CHECK(result.samplesTaken == result.samplesPerPixel * 40 * 30);
 }
 
+namespace {
+
+/// The start of an AOV test's scene: `integrator` recording `aovs`, `spp` samples of
+/// `sampler`, and a width × height camera at the origin looking down −z (40° field of
+/// view, box filter); the test adds its content and the closing </scene>.
+std::string aovTestScene(const std::string &integrator, const std::string &aovs,
+                         const std::string &sampler, int spp, int width, int height) {
+    return fmt::format(R"(<scene>
+        <integrator type="{}"><string name="aovs" value="{}"/></integrator>
+        <sampler type="{}"><integer name="sampleCount" value="{}"/></sampler>
+        <camera type="perspective"><integer name="width" value="{}"/><integer name="height" value="{}"/>
+            <float name="fov" value="40"/><rfilter type="box"/>
+            <transform name="toWorld"><lookat origin="0,0,0" target="0,0,-1"/></transform></camera>
+)",
+                       integrator, aovs, sampler, spp, width, height);
+}
+
+} // namespace
+
 TEST_CASE("AOVs: the albedo, normal, depth and position of a plane", "[render][aov]") {
     // A diffuse plane z = −2 facing the camera at the origin, tilted about x by 30°.
     const Vector3f normal(0.0f, std::sin(degToRad(30.0f)), std::cos(degToRad(30.0f)));
     const Point3f onPlane(0.0f, 0.0f, -2.0f);
     TempDir dir;
     dir.write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
-    auto scene = loadScene(R"(<scene>
-        <integrator type="direct_mis"><string name="aovs" value="albedo, normal depth,position"/></integrator>
-        <sampler type="sobol"><integer name="sampleCount" value="16"/></sampler>
-        <camera type="perspective"><integer name="width" value="24"/><integer name="height" value="16"/>
-            <float name="fov" value="40"/><rfilter type="box"/>
-            <transform name="toWorld"><lookat origin="0,0,0" target="0,0,-1"/></transform></camera>
+    auto scene = loadScene(
+        aovTestScene("direct_mis", "albedo, normal depth,position", "sobol", 16, 24, 16) + R"(
         <mesh type="obj"><string name="filename" value="quad.obj"/>
             <bsdf type="diffuse"><color name="albedo" value="0.2, 0.4, 0.6"/></bsdf>
             <transform name="toWorld"><scale value="10"/><rotate axis="1,0,0" angle="-30"/>
                 <translate value="0,0,-2"/></transform></mesh>
         <emitter type="point"><point name="position" value="0,0,0"/><color name="power" value="10"/></emitter>
     </scene>)",
-                           dir.path().string());
+        dir.path().string());
     const RenderResult result = renderScene(*scene, quietOptions(2));
     const Bitmap albedo = result.layers.layer("albedo"), normals = result.layers.layer("normal"),
                  depth = result.layers.layer("depth"), position = result.layers.layer("position");
@@ -177,12 +192,7 @@ TEST_CASE("AOVs: behind smooth glass, the albedo of what it refracts", "[render]
     // the plane's, exactly, and not a mix with the black that the reflections see.
     TempDir dir;
     dir.write("quad.obj", "v -10 -10 0\nv 10 -10 0\nv 10 10 0\nv -10 10 0\nf 1 2 3 4\n");
-    auto scene = loadScene(R"(<scene>
-        <integrator type="path_mis"><string name="aovs" value="albedo"/></integrator>
-        <sampler type="independent"><integer name="sampleCount" value="64"/></sampler>
-        <camera type="perspective"><integer name="width" value="16"/><integer name="height" value="16"/>
-            <float name="fov" value="40"/><rfilter type="box"/>
-            <transform name="toWorld"><lookat origin="0,0,0" target="0,0,-1"/></transform></camera>
+    auto scene = loadScene(aovTestScene("path_mis", "albedo", "independent", 64, 16, 16) + R"(
         <mesh type="sphere"><point name="center" value="0,0,-2"/><float name="radius" value="0.5"/>
             <bsdf type="dielectric"/></mesh>
         <mesh type="obj"><string name="filename" value="quad.obj"/>
@@ -207,12 +217,7 @@ TEST_CASE("AOVs: emission is the light a camera ray meets first", "[render][aov]
     TempDir dir;
     dir.write("left.obj", "v -10 -10 0\nv 0 -10 0\nv 0 10 0\nv -10 10 0\nf 1 2 3 4\n");
     dir.write("lowerRight.obj", "v 0 -10 0\nv 10 -10 0\nv 10 0 0\nv 0 0 0\nf 1 2 3 4\n");
-    auto scene = loadScene(R"(<scene>
-        <integrator type="path_mis"><string name="aovs" value="emission"/></integrator>
-        <sampler type="independent"><integer name="sampleCount" value="4"/></sampler>
-        <camera type="perspective"><integer name="width" value="24"/><integer name="height" value="16"/>
-            <float name="fov" value="40"/><rfilter type="box"/>
-            <transform name="toWorld"><lookat origin="0,0,0" target="0,0,-1"/></transform></camera>
+    auto scene = loadScene(aovTestScene("path_mis", "emission", "independent", 4, 24, 16) + R"(
         <mesh type="obj"><string name="filename" value="left.obj"/>
             <transform name="toWorld"><translate value="0,0,-2"/></transform>
             <emitter type="area"><color name="radiance" value="1, 2, 3"/></emitter></mesh>
