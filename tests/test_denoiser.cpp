@@ -142,52 +142,65 @@ bool finiteAndNonNegative(const Bitmap &image) {
 // with 4 and 64 spp and an oracle's bound); each has the control of a plain 5×5 blur,
 // which also lowers the noise, but not as far.
 TEST_CASE("Denoising the Cornell box at 16 spp cuts the relMSE eightfold", "[denoiser]") {
-    // The goal: 1/8. Reached: 1/15.0 (noisy 0.0550, denoised 0.00367).
+    // The goal: 1/8. Reached: 1/17.2 (noisy 0.0550, denoised 0.00320).
     const auto [noisy, denoised, blurred] = denoisedRender("cbox", 16).errors();
     INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
     CHECK(denoised * 8.0 <= noisy);
     CHECK(blurred * 8.0 > noisy);
 }
 
-TEST_CASE("Denoising the textured scene at 16 spp cuts the relMSE 6.6-fold", "[denoiser]") {
-    // The goal: 1/8, missed. Reached: 1/6.65 (noisy 0.01723, denoised 0.00259); the
+TEST_CASE("Denoising the textured scene at 16 spp cuts the relMSE 6.7-fold", "[denoiser]") {
+    // The goal: 1/8, missed. Reached: 1/6.72 (noisy 0.01723, denoised 0.00257); the
     // oracle's choice among the filters reaches 1/13.1. Most of what is left is the
     // mirror sphere's caustic on the floor and the lights it reflects.
     const auto [noisy, denoised, blurred] = denoisedRender("textured", 16).errors();
     INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
-    CHECK(denoised * 6.6 <= noisy);
-    CHECK(blurred * 6.6 > noisy);
+    CHECK(denoised * 6.7 <= noisy);
+    CHECK(blurred * 6.7 > noisy);
 }
 
 TEST_CASE("Denoising Veach's plates at 16 spp halves the relMSE outside the lights", "[denoiser]") {
-    // The goal: 1/3 outside the emitters' pixels and a 2-pixel rim, missed. Reached: 1/1.96
-    // (noisy 0.00631, denoised 0.00323); the oracle reaches 1/3.2 there. The emitters'
+    // The goal: 1/3 outside the emitters' pixels and a 2-pixel rim, missed. Reached: 1/1.98
+    // (noisy 0.00631, denoised 0.00319); the oracle reaches 1/3.2 there. The emitters'
     // own pixels (the smallest light is about one pixel wide) stay as noisy as they were
     // (ratio 1.0), and are measured apart.
     const DenoisedRender render = denoisedRender("veach", 16);
     {
-        // The whole image, lights included: 1/1.70 (noisy 0.00686, denoised 0.00403).
+        // The whole image, lights included: 1/1.72 (noisy 0.00686, denoised 0.00400).
         const auto [noisy, denoised, blurred] = render.errors();
         INFO("whole image: relMSE noisy " << noisy << ", denoised " << denoised);
-        CHECK(denoised * 1.7 <= noisy);
+        CHECK(denoised * 1.71 <= noisy);
     }
     const auto [noisy, denoised, blurred] = render.errors(&render.outsideEmitters);
     INFO("outside the emitters: relMSE noisy " << noisy << ", denoised " << denoised
                                                << ", box-blurred " << blurred);
     REQUIRE(render.outsideEmitters.count() < render.outsideEmitters.size());
-    CHECK(denoised * 1.95 <= noisy);
-    CHECK(blurred * 1.95 > noisy);
+    CHECK(denoised * 1.97 <= noisy);
+    CHECK(blurred * 1.97 > noisy);
 }
 
 TEST_CASE("Denoising the default scene at its 12 spp of photon mapping", "[denoiser]") {
-    // The goal: 1/4 and no smeared fireflies, missed. Reached: 1/3.92 over the whole image
-    // (noisy 0.00394, denoised 0.00101; the oracle: 1/6.9), 1/4.6 outside the light's pixels.
+    // The goal: 1/4 and no smeared fireflies. Reached: 1/4.10 over the whole image (noisy
+    // 0.00394, denoised 0.000962; the oracle: 1/7.1), 1/4.7 outside the light's pixels; the
+    // fireflies: missed (below).
     const DenoisedRender render = denoisedRender("default", 0);
     REQUIRE(render.noisy.samplesPerPixel == 12);
     const auto [noisy, denoised, blurred] = render.errors();
     INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
-    CHECK(denoised * 3.9 <= noisy);
-    CHECK(blurred * 3.9 > noisy);
+    CHECK(denoised * 4.0 <= noisy);
+    CHECK(blurred * 4.0 > noisy);
+    {
+        // The light's own pixels and their 2-pixel rim: 1/1.71 (noisy 0.0115, denoised
+        // 0.00674). Near its corners no 7×7 patch matches a pixel's, which every
+        // candidate of those patches left noisy (1/1.44 so); the 3×3 patches' candidates
+        // take over there (DenoiserSettings::finePatchRadius).
+        const Mask light = !render.outsideEmitters;
+        const auto [lightNoisy, lightDenoised, lightBlurred] = render.errors(&light);
+        INFO("the light's pixels: relMSE noisy " << lightNoisy << ", denoised " << lightDenoised
+                                                 << ", box-blurred " << lightBlurred);
+        CHECK(lightDenoised * 1.7 <= lightNoisy);
+        CHECK(lightBlurred * 1.7 > lightNoisy);
+    }
 
     // Fireflies: outside the light's own pixels, 3 pixels of the denoised image are
     // brighter than the noisy image's 99.9th percentile (1.22) where the reference is not,

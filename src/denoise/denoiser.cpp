@@ -198,8 +198,11 @@ public:
     /// bandwidth b.
     TileFilter(const Inputs &inputs, const DenoiserSettings &settings, Candidates &out)
         : m_in(inputs), m_settings(settings), m_out(out),
-          m_border(settings.searchRadius + settings.patchRadius) {
+          m_border(settings.searchRadius +
+                   std::max(settings.patchRadius, settings.finePatchRadius)) {
         for (float k : settings.bandwidths)
+            m_inverseBandwidthSquared.push_back(1.0f / (k * k));
+        for (float k : settings.fineBandwidths)
             m_inverseBandwidthSquared.push_back(1.0f / (k * k));
         for (int k = 0; k < 3; ++k) {
             m_paddedColour[k] = padded(inputs.colour[k], m_border);
@@ -209,16 +212,19 @@ public:
 
     void filter(int x0, int y0, int width, int height) const {
         const int r = m_settings.searchRadius, side = 2 * r + 1;
-        const Eigen::Array<float, Eigen::Dynamic, Eigen::Dynamic> distances =
-            patchDistances(x0, y0, width, height);
+        const bool hasFine = !m_settings.fineBandwidths.empty();
+        std::vector<int> radii{m_settings.patchRadius};
+        if (hasFine)
+            radii.push_back(m_settings.finePatchRadius);
+        const std::vector<Distances> distances = patchDistances(x0, y0, width, height, radii);
 
         // Per pixel, the weighted normal equations of its window, one set per bandwidth,
         // as one product Xᵀ·W·X of the neighbours' rows X = (design, colour).
-        const size_t bandwidths = m_inverseBandwidthSquared.size();
+        const size_t coarse = m_settings.bandwidths.size(), fine = m_settings.fineBandwidths.size();
         Eigen::Matrix<float, Eigen::Dynamic, kRowSize> rows(side * side, kRowSize);
-        Eigen::ArrayXf neighbourDistances(side * side), weights(side * side);
-        const Eigen::Index columns = static_cast<Eigen::Index>(bandwidths) * kRowSize;
-        Eigen::MatrixXf weighted(side * side, columns), products(kRowSize, columns);
+        Eigen::ArrayXf coarseDistances(side * side), fineDistances(side * side);
+        Eigen::MatrixXf weighted(side * side, static_cast<Eigen::Index>(coarse + fine) * kRowSize);
+        Eigen::MatrixXf products(kRowSize, static_cast<Eigen::Index>(coarse + fine) * kRowSize);
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
                 const int px = x0 + x, py = y0 + y;
@@ -232,51 +238,89 @@ public:
                         const int qx = px + ox;
                         if (qx < 0 || qx >= m_in.width || !m_in.valid(qy, qx))
                             continue;
-                        neighbourDistances[count] = distances((oy + r) * side + ox + r, pixel);
+                        const Eigen::Index offset = (oy + r) * side + ox + r;
+                        coarseDistances[count] = distances[0](offset, pixel);
+                        if (hasFine)
+                            fineDistances[count] = distances[1](offset, pixel);
                         rows.row(count) << designRow(px, py, qx, qy, ox, oy).transpose(),
                             colourAt(qx, qy).transpose();
                         ++count;
                     }
                 }
-                // All bandwidths in one product: Xᵀ·[W₀X | W₁X | ...].
                 const auto neighbours = rows.topRows(count);
-                for (size_t b = 0; b < bandwidths; ++b) {
-                    weights.head(count) =
-                        (neighbourDistances.head(count) * -m_inverseBandwidthSquared[b]).exp();
-                    // Neighbours below kMinWeight add nothing worth keeping.
-                    weighted.block(0, b * kRowSize, count, kRowSize) =
-                        neighbours.array().colwise() *
-                        (weights.head(count) < kMinWeight).select(0.0f, weights.head(count));
-                }
-                products.noalias() = neighbours.transpose() * weighted.topRows(count);
-                for (size_t b = 0; b < bandwidths; ++b) {
-                    const Gram gram = products.block<kUnknowns, kUnknowns>(0, b * kRowSize);
-                    const Moments moment =
-                        products.block<kUnknowns, 3>(0, b * kRowSize + kUnknowns);
-                    firstOrderFit(gram, moment, 2 * b, px, py);
-                    weightedMean(gram, moment, 2 * b + 1, px, py);
+                solveAll(neighbours, coarseDistances.head(count), 0, coarse, weighted, products, px,
+                         py, true);
+                if (fine == 0)
+                    continue;
+                // The fine candidates compete only where the coarse ones left the pixel
+                // (nearly) alone: the weights of its widest bandwidth sum to less than 2,
+                // its own 1 and less than one neighbour's (an invalid pixel, not its own
+                // neighbour: less than two).
+                const float coarseWeight =
+                    products(0, static_cast<Eigen::Index>(coarse - 1) * kRowSize);
+                if (coarseWeight < 2.0f) {
+                    solveAll(neighbours, fineDistances.head(count), coarse, fine, weighted,
+                             products, px, py, true);
+                } else {
+                    // Not chosen here, but blended where a neighbour's vote chose them: the
+                    // widest coarse candidates' estimates stand in.
+                    for (size_t b = coarse; b < coarse + fine; ++b)
+                        for (size_t kind = 0; kind < 2; ++kind) {
+                            const size_t standIn = 2 * (coarse - 1) + kind;
+                            store(2 * b + kind, px, py, filteredAt(standIn, px, py), 1.0f, false);
+                        }
                 }
             }
     }
 
 private:
+    using Distances = Eigen::Array<float, Eigen::Dynamic, Eigen::Dynamic>;
+
+    /// The candidates of bandwidths [first, first + count) of m_inverseBandwidthSquared
+    /// at pixel (px, py), from its neighbours' rows and patch distances: all the
+    /// bandwidths' weighted normal equations in one product Xᵀ·[W₀X | W₁X | ...].
+    template <class Rows, class NeighbourDistances>
+    void solveAll(const Rows &neighbours, const NeighbourDistances &patchDistance, size_t first,
+                  size_t count, Eigen::MatrixXf &weighted, Eigen::MatrixXf &products, int px,
+                  int py, bool competes) const {
+        const Eigen::Index rows = neighbours.rows();
+        const auto columns = static_cast<Eigen::Index>(count) * kRowSize;
+        for (size_t b = 0; b < count; ++b) {
+            const Eigen::ArrayXf weights =
+                (patchDistance * -m_inverseBandwidthSquared[first + b]).exp();
+            // Neighbours below kMinWeight add nothing worth keeping.
+            weighted.block(0, static_cast<Eigen::Index>(b) * kRowSize, rows, kRowSize) =
+                neighbours.array().colwise() * (weights < kMinWeight).select(0.0f, weights);
+        }
+        products.leftCols(columns).noalias() =
+            neighbours.transpose() * weighted.topLeftCorner(rows, columns);
+        for (size_t b = 0; b < count; ++b) {
+            const auto column = static_cast<Eigen::Index>(b) * kRowSize;
+            const Gram gram = products.block<kUnknowns, kUnknowns>(0, column);
+            const Moments moment = products.block<kUnknowns, 3>(0, column + kUnknowns);
+            firstOrderFit(gram, moment, 2 * (first + b), px, py, competes);
+            weightedMean(gram, moment, 2 * (first + b) + 1, px, py, competes);
+        }
+    }
+
     /// The patch distance of every pixel p of the tile to each neighbour q = p + o of
-    /// its window: the mean over the (2f + 1)² patches around p and q and over the
-    /// channels of Rousselle et al. 2012's pixel distance (eq. 4, bandwidth k = 1),
-    /// ((C_p − C_q)² − (σ²_p + min(σ²_p, σ²_q))) / (ε + σ²_p + σ²_q): the squared
-    /// difference less the variance it is expected to have, in units of the pair's
-    /// variance. One row per offset o (row-major over the window), one column per pixel
-    /// of the tile (row-major), so that a pixel's distances lie together.
-    Eigen::Array<float, Eigen::Dynamic, Eigen::Dynamic> patchDistances(int x0, int y0, int width,
-                                                                       int height) const {
-        const int r = m_settings.searchRadius, f = m_settings.patchRadius, side = 2 * r + 1;
-        const int grownWidth = width + 2 * f, grownHeight = height + 2 * f;
-        const float normalisation = 1.0f / static_cast<float>(3 * (2 * f + 1) * (2 * f + 1));
-        Eigen::Array<float, Eigen::Dynamic, Eigen::Dynamic> distances(side * side, width * height);
+    /// its window, for each patch radius f of `radii`: the mean over the (2f + 1)²
+    /// patches around p and q and over the channels of Rousselle et al. 2012's pixel
+    /// distance (eq. 4, bandwidth k = 1), ((C_p − C_q)² − (σ²_p + min(σ²_p, σ²_q))) /
+    /// (ε + σ²_p + σ²_q): the squared difference less the variance it is expected to
+    /// have, in units of the pair's variance. Per radius, one row per offset o (row-major
+    /// over the window), one column per pixel of the tile (row-major), so that a pixel's
+    /// distances lie together.
+    std::vector<Distances> patchDistances(int x0, int y0, int width, int height,
+                                          const std::vector<int> &radii) const {
+        const int r = m_settings.searchRadius, side = 2 * r + 1;
+        const int grown = *std::max_element(radii.begin(), radii.end());
+        const int grownWidth = width + 2 * grown, grownHeight = height + 2 * grown;
+        std::vector<Distances> distances(radii.size(), Distances(side * side, width * height));
         Plane pixelDistance(grownHeight, grownWidth), rowSums(grownHeight, width);
         Plane patch(height, width);
-        // The tile grown by the patch radius, in the padded planes' coordinates.
-        const int top = y0 - f + m_border, left = x0 - f + m_border;
+        // The tile grown by the largest patch radius, in the padded planes' coordinates.
+        const int top = y0 - grown + m_border, left = x0 - grown + m_border;
         for (int oy = -r; oy <= r; ++oy)
             for (int ox = -r; ox <= r; ++ox) {
                 pixelDistance.setZero();
@@ -290,19 +334,32 @@ private:
                     pixelDistance +=
                         ((cp - cq).square() - (vp + vp.min(vq))) / (kDistanceEpsilon + vp + vq);
                 }
-                // Patch sums by separable box sums: along rows, then along columns.
-                rowSums = pixelDistance.leftCols(width);
-                for (int i = 1; i <= 2 * f; ++i)
-                    rowSums += pixelDistance.middleCols(i, width);
-                patch = rowSums.topRows(height);
-                for (int i = 1; i <= 2 * f; ++i)
-                    patch += rowSums.middleRows(i, height);
-                distances.row((oy + r) * side + ox + r) =
-                    (Eigen::Map<const Eigen::ArrayXf>(patch.data(), patch.size()) * normalisation)
-                        .max(0.0f)
-                        .transpose();
+                for (size_t i = 0; i < radii.size(); ++i) {
+                    // Patch sums by separable box sums: along rows, then along columns,
+                    // from the margin the larger radius left.
+                    const int f = radii[i], margin = grown - f;
+                    rowSums = pixelDistance.middleCols(margin, width);
+                    for (int j = 1; j <= 2 * f; ++j)
+                        rowSums += pixelDistance.middleCols(margin + j, width);
+                    patch = rowSums.middleRows(margin, height);
+                    for (int j = 1; j <= 2 * f; ++j)
+                        patch += rowSums.middleRows(margin + j, height);
+                    const float normalisation =
+                        1.0f / static_cast<float>(3 * (2 * f + 1) * (2 * f + 1));
+                    distances[i].row((oy + r) * side + ox + r) =
+                        (Eigen::Map<const Eigen::ArrayXf>(patch.data(), patch.size()) *
+                         normalisation)
+                            .max(0.0f)
+                            .transpose();
+                }
             }
         return distances;
+    }
+
+    /// Candidate `candidate`'s estimate at (x, y), as stored.
+    Eigen::Vector3f filteredAt(size_t candidate, int x, int y) const {
+        return {m_out.filtered[candidate][0](y, x), m_out.filtered[candidate][1](y, x),
+                m_out.filtered[candidate][2](y, x)};
     }
 
     Eigen::Vector3f colourAt(int x, int y) const {
@@ -326,8 +383,8 @@ private:
     /// Solves one pixel's normal equations (G + λ·Σw·I on the slopes) β = M and keeps
     /// the intercept; its derivative with respect to the pixel's own colour, for SURE,
     /// is w_pp·(G⁻¹)₀₀ with w_pp = 1.
-    void firstOrderFit(const Gram &gram, const Moments &moment, size_t candidate, int x,
-                       int y) const {
+    void firstOrderFit(const Gram &gram, const Moments &moment, size_t candidate, int x, int y,
+                       bool competes) const {
         using GramD = Eigen::Matrix<double, kUnknowns, kUnknowns>;
         GramD system = gram.cast<double>();
         const double totalWeight = system(0, 0);
@@ -338,28 +395,29 @@ private:
             const double inverse00 = ldlt.solve(GramD::Identity().col(0).eval())(0);
             if (ldlt.info() == Eigen::Success && beta.allFinite() && std::isfinite(inverse00)) {
                 store(candidate, x, y, beta.row(0).transpose().cast<float>(),
-                      static_cast<float>(std::clamp(inverse00, 0.0, 1.0)));
+                      static_cast<float>(std::clamp(inverse00, 0.0, 1.0)), competes);
                 return;
             }
         }
-        store(candidate, x, y, colourAt(x, y), 1.0f);
+        store(candidate, x, y, colourAt(x, y), 1.0f, competes);
     }
 
     /// The weighted mean Σw·C / Σw, whose derivative in the pixel's own colour is 1/Σw.
-    void weightedMean(const Gram &gram, const Moments &moment, size_t candidate, int x,
-                      int y) const {
+    void weightedMean(const Gram &gram, const Moments &moment, size_t candidate, int x, int y,
+                      bool competes) const {
         const float totalWeight = gram(0, 0);
         if (totalWeight > 0.0f)
-            store(candidate, x, y, moment.row(0).transpose() / totalWeight, 1.0f / totalWeight);
+            store(candidate, x, y, moment.row(0).transpose() / totalWeight, 1.0f / totalWeight,
+                  competes);
         else
-            store(candidate, x, y, colourAt(x, y), 1.0f);
+            store(candidate, x, y, colourAt(x, y), 1.0f, competes);
     }
 
     /// Stores a candidate's estimate and its SURE, Σ_ch m²·((F − C)² − σ² + 2σ²·∂F/∂C)
     /// (Stein 1981; Li et al. 2012, eq. 5), in the beauty's units through the modulation
     /// m. An invalid pixel is not in its own window: its derivative is 0.
     void store(size_t candidate, int x, int y, const Eigen::Vector3f &filtered,
-               float selfDerivative) const {
+               float selfDerivative, bool competes) const {
         if (!m_in.valid(y, x))
             selfDerivative = 0.0f;
         const Eigen::Vector3f colour = colourAt(x, y);
@@ -372,7 +430,8 @@ private:
                     (residual * residual - variance + 2.0f * variance * selfDerivative);
             m_out.filtered[candidate][k](y, x) = filtered[k];
         }
-        m_out.sure[candidate](y, x) = sure;
+        // A candidate that does not compete here is never the least.
+        m_out.sure[candidate](y, x) = competes ? sure : kInfinity;
     }
 
     const Inputs &m_in;
@@ -395,9 +454,11 @@ namespace {
 
 void checkSettings(const DenoiserSettings &settings) {
     if (settings.bandwidths.empty() || settings.searchRadius < 0 || settings.patchRadius < 0 ||
-        !(settings.ridge >= 0.0f))
+        settings.finePatchRadius < 0 || !(settings.ridge >= 0.0f))
         throw NoriException("denoise: needs a bandwidth, non-negative radii and ridge");
-    for (float k : settings.bandwidths)
+    std::vector<float> all = settings.bandwidths;
+    all.insert(all.end(), settings.fineBandwidths.begin(), settings.fineBandwidths.end());
+    for (float k : all)
         if (!(k > 0.0f) || !std::isfinite(k))
             throw NoriException("denoise: bandwidths must be positive, got {}", k);
 }
@@ -406,7 +467,8 @@ void checkSettings(const DenoiserSettings &settings) {
 Candidates filterCandidates(const Inputs &inputs, const DenoiserSettings &settings) {
     const int width = inputs.width, height = inputs.height;
     Candidates candidates;
-    for (size_t c = 0; c < 2 * settings.bandwidths.size() + 1; ++c) {
+    const size_t filters = settings.bandwidths.size() + settings.fineBandwidths.size();
+    for (size_t c = 0; c < 2 * filters + 1; ++c) {
         candidates.filtered.push_back(
             {Plane(height, width), Plane(height, width), Plane(height, width)});
         candidates.sure.emplace_back(height, width);

@@ -17,6 +17,12 @@ struct DenoiserSettings {
     /// The candidate filters' non-local-means bandwidths k (larger: smoother); each
     /// pixel takes the candidate of least estimated error (SURE).
     std::vector<float> bandwidths{0.5f, 1.0f};
+    /// More candidates, whose non-local means compare the smaller (2g + 1)² patches of
+    /// this radius g, at these bandwidths: near a corner or along a line one pixel wide
+    /// (a light's edge), no (2f + 1)² patch matches the pixel's, which then stays alone,
+    /// noisy, in every candidate above. None: no such candidates.
+    int finePatchRadius = 1;
+    std::vector<float> fineBandwidths{1.0f};
     /// Ridge regularisation of the feature slopes, as a feature variance: slopes along
     /// features that vary less than √ridge in a window are damped.
     float ridge = 1e-3f;
@@ -32,8 +38,8 @@ const std::vector<AOV> &denoiserAOVs();
 Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings = {});
 
 /// The candidates denoise() blends, before it chooses: for each bandwidth b of the
-/// settings the first-order fit (index 2b) and the weighted mean (2b + 1), then the
-/// noisy image. For measuring the choice against an oracle that knows the reference.
+/// settings, then each of the fine ones, the first-order fit (index 2b) and the weighted
+/// mean (2b + 1); then the noisy image. For measuring the choice against an oracle that knows the reference.
 std::vector<Bitmap> denoiserCandidates(const LayeredImage &image,
                                        const DenoiserSettings &settings = {});
 
