@@ -208,11 +208,11 @@ TEST_CASE("Denoising the default scene at its 12 spp of photon mapping", "[denoi
     // 1.20 and the denoiser kept the noisy pixels (within 3 %): at (94, 114) the noisy
     // 1.40 is about 3.2 of its estimated standard deviations above the reference, and no
     // neighbour's patch is close enough to weigh in any candidate (presumably because
-    // photon mapping's noise comes in blotches the size of its radius, bias included). A firefly planted in a
-    // dark corner (luminance 100, its variance as one half-buffer sample would give) adds
-    // none: the denoiser takes it for an outlier (kOutlierFactor), which no neighbour
-    // blends in (without that rule, measured: 3 more, a blob of 1.2 to 2.6 around it
-    // where the reference is 0.13); a 5×5 blur smears it over 25 pixels.
+    // photon mapping's noise comes in blotches the size of its radius, bias included). A
+    // firefly planted in a dark corner (luminance 100, its variance as one half-buffer
+    // sample would give) adds none: the denoiser takes it for an outlier (kOutlierFactor),
+    // which no neighbour blends in (without that rule, measured: 3 more, a blob of 1.2 to
+    // 2.6 around it where the reference is 0.13); a 5×5 blur smears it over 25 pixels.
     const size_t unplanted = denoiserscenes::smearedFireflies(
         render.noisy.image, render.denoised, render.reference, render.outsideEmitters);
     CHECK(unplanted <= 3);
