@@ -39,7 +39,9 @@ Bitmap denoise(const LayeredImage &image, const DenoiserSettings &settings = {})
 
 /// The candidates denoise() blends, before it chooses: for each bandwidth b of the
 /// settings, then each of the fine ones, the first-order fit (index 2b) and the weighted
-/// mean (2b + 1); then the noisy image. For measuring the choice against an oracle that knows the reference.
+/// mean (2b + 1); then the noisy image. A fine candidate is computed only where it
+/// competes (DenoiserSettings::finePatchRadius), the coarse one standing in elsewhere. For
+/// measuring the choice against an oracle that knows the reference.
 std::vector<Bitmap> denoiserCandidates(const LayeredImage &image,
                                        const DenoiserSettings &settings = {});
 
