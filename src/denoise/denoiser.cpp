@@ -253,9 +253,9 @@ public:
                 if (fine == 0)
                     continue;
                 // The fine candidates compete only where the coarse ones left the pixel
-                // (nearly) alone: the weights of its widest bandwidth sum to less than 2,
-                // its own 1 and less than one neighbour's (an invalid pixel, not its own
-                // neighbour: less than two).
+                // (nearly) alone: the weights of the last coarse bandwidth (the widest of
+                // the defaults) sum to less than 2, its own 1 and less than one neighbour's
+                // (an invalid pixel, not its own neighbour: less than two).
                 const float coarseWeight =
                     products(0, static_cast<Eigen::Index>(coarse - 1) * kRowSize);
                 if (coarseWeight < 2.0f) {
@@ -263,7 +263,7 @@ public:
                              products, px, py, true);
                 } else {
                     // Not chosen here, but blended where a neighbour's vote chose them: the
-                    // widest coarse candidates' estimates stand in.
+                    // last coarse bandwidth's estimates stand in.
                     for (size_t b = coarse; b < coarse + fine; ++b)
                         for (size_t kind = 0; kind < 2; ++kind) {
                             const size_t standIn = 2 * (coarse - 1) + kind;
@@ -415,7 +415,8 @@ private:
 
     /// Stores a candidate's estimate and its SURE, Σ_ch m²·((F − C)² − σ² + 2σ²·∂F/∂C)
     /// (Stein 1981; Li et al. 2012, eq. 5), in the beauty's units through the modulation
-    /// m. An invalid pixel is not in its own window: its derivative is 0.
+    /// m. An invalid pixel is not in its own window: its derivative is 0. A candidate that
+    /// does not compete at the pixel gets an infinite SURE.
     void store(size_t candidate, int x, int y, const Eigen::Vector3f &filtered,
                float selfDerivative, bool competes) const {
         if (!m_in.valid(y, x))
