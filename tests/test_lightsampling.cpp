@@ -285,6 +285,48 @@ TEST_CASE("A triangle light far, nearly a point, or asked to, is sampled by area
                Catch::Contains("'sampling' is \"cone\""));
 }
 
+TEST_CASE("Points behind a one-sided light are known without sampling it", "[lights][spherical]") {
+    // A flat square, a shallow roof of two triangles whose normals are 23° apart (a
+    // cone of half-angle 11.3° about −y), and a tetrahedron (normals every way: never
+    // behind, as far as the bound can tell).
+    const char *roof = "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv 0 -0.2 0\n"
+                       "f 1 2 5\nf 3 4 5\n";
+    const char *tetrahedron = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                              "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    PCG32 random(5, 7);
+    for (const char *obj : {kSquareFacingDown, roof, tetrahedron}) {
+        CAPTURE(obj);
+        LightFixture fixture(obj);
+        std::vector<ShapeSample> points;
+        for (int i = 0; i < 4000; ++i)
+            points.push_back(
+                fixture.shape->sampleSurface(Point2f(random.nextFloat(), random.nextFloat())));
+        int behind = 0;
+        for (int trial = 0; trial < 2000; ++trial) {
+            const Point3f ref = randomPoint(random, 3.0f);
+            CAPTURE(ref.transpose());
+            if (!fixture.shape->facesAwayFrom(ref))
+                continue;
+            ++behind;
+            // Every point of the light turns its emitting side away from ref, so the light
+            // sends ref nothing, and its sample says so.
+            for (const ShapeSample &point : points)
+                REQUIRE(point.n.dot(ref - point.p) <= 0.0f);
+            EmitterQueryRecord lRec(ref);
+            CHECK((fixture.light->sample(lRec, Point2f(0.4f, 0.7f)) == 0.0f).all());
+        }
+        if (obj == tetrahedron)
+            CHECK(behind == 0);
+        else
+            CHECK(behind > 300); // the square: half the cube; the roof: about a third
+    }
+    // Exactly in the square's plane, or just in front of it, is not behind.
+    LightFixture square(kSquareFacingDown);
+    CHECK_FALSE(square.shape->facesAwayFrom(Point3f(0.2f, 0.0f, 0.3f)));
+    CHECK_FALSE(square.shape->facesAwayFrom(Point3f(3.0f, -1e-3f, 0.0f)));
+    CHECK(square.shape->facesAwayFrom(Point3f(3.0f, 1e-3f, 0.0f)));
+}
+
 TEST_CASE("A floor under a close square light gets the light of its form factor",
           "[lights][spherical]") {
     // A square of side 2 at height h = 1/2 above a diffuse floor (albedo 1/2), facing it,

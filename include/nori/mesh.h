@@ -9,6 +9,7 @@
 
 #include <array>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 namespace nori {
@@ -41,6 +42,11 @@ public:
     /// The cone of the faces' normals as sampleSurface() orients them: a face whose
     /// vertex normals disagree about its front adds both of its sides.
     DirectionCone normalBounds() const override;
+    /// For a mesh whose normals lie within 90° of one direction w (a planar light, say),
+    /// from bounds activate() computes when the mesh carries an emitter; false otherwise.
+    bool facesAwayFrom(const Point3f &ref) const override;
+    /// Shape's checks, then, for an area light's mesh, the bounds facesAwayFrom() reads.
+    void activate() override;
     /// Seen from a point ref within kSolidAngleSamplingReach radii of its bounding
     /// sphere's centre, a mesh of at most kMaxSolidAngleTriangles triangles, each
     /// subtending a solid angle within the bounds of sphericaltriangle.h, is sampled
@@ -124,6 +130,17 @@ protected:
     std::vector<Vector3i> m_faces;    ///< vertex indices of each triangle
     std::vector<Vector3f> m_tangents; ///< per-vertex tangents (along dp/du) when there are uvs
     DiscretePDF m_triangleAreas;      ///< for sampling a triangle by area
+
+    /// What facesAwayFrom() needs (activate() sets it for an emitter's mesh whose normal
+    /// cone (w, θ) has θ < 90°): w, the least w·p over the vertices, |n − w| ≤ √(2 − 2 cos θ)
+    /// for every normal n, and the bounding sphere that bounds |ref − p|.
+    struct BackBounds {
+        Vector3f w;
+        float leastOffset = 0.0f, normalSpread = 0.0f;
+        Point3f center;
+        float radius = 0.0f;
+    };
+    std::optional<BackBounds> m_backBounds;
 
 private:
     struct Nori2Arrays {

@@ -112,6 +112,13 @@ public:
     /// emits from), for the light tree's bounds. The default is the whole sphere, right
     /// for any shape; a mesh gives the cone of its faces.
     virtual DirectionCone normalBounds() const { return DirectionCone::entireSphere(); }
+    /// Whether ref lies behind every point of the surface, as sampleSurface() orients its
+    /// normals (n·(ref − p) ≤ 0 everywhere), so that a one-sided light on it sends ref
+    /// nothing: a test an area light makes before sampling. False when unsure, as here.
+    virtual bool facesAwayFrom(const Point3f &ref) const {
+        (void)ref;
+        return false;
+    }
 
     /// A point uniformly distributed over the surface (pdf = 1/area).
     virtual ShapeSample sampleSurface(const Point2f &sample) const = 0;

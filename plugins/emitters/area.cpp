@@ -54,6 +54,9 @@ public:
     bool requiresShape() const override { return true; }
 
     Color3f sample(EmitterQueryRecord &lRec, const Point2f &sample) const override {
+        // Behind a one-sided light (a Cornell box's ceiling, say) nothing needs sampling.
+        if (m_shape->facesAwayFrom(lRec.ref))
+            return Color3f(0.0f);
         const ShapeSample point =
             m_byArea ? m_shape->areaSampleFromReference(lRec.ref, sample)
                      : m_shape->sampleFromReference(lRec.ref, lRec.refNormal, sample);

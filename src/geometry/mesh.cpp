@@ -278,6 +278,39 @@ DirectionCone Mesh::normalBounds() const {
     return cone.isEmpty() ? DirectionCone::entireSphere() : cone;
 }
 
+void Mesh::activate() {
+    Shape::activate();
+    m_backBounds.reset();
+    if (!getEmitter() || m_faces.empty())
+        return;
+    const DirectionCone normals = normalBounds();
+    if (normals.isEmpty() || !(normals.cosTheta > 0.0f))
+        return;
+    BackBounds bounds;
+    bounds.w = normals.w;
+    bounds.leastOffset = kInfinity;
+    for (const Vector3i &face : m_faces)
+        for (int k = 0; k < 3; ++k)
+            bounds.leastOffset = std::min(bounds.leastOffset, bounds.w.dot(m_positions[face[k]]));
+    bounds.normalSpread = std::sqrt(2.0f - 2.0f * std::min(normals.cosTheta, 1.0f));
+    bounds.center = m_bbox.getCenter();
+    bounds.radius = 0.5f * m_bbox.getExtents().norm();
+    m_backBounds = bounds;
+}
+
+bool Mesh::facesAwayFrom(const Point3f &ref) const {
+    if (!m_backBounds)
+        return false;
+    const BackBounds &bounds = *m_backBounds;
+    // For a point p of the mesh and its normal n: n·(ref − p) = w·(ref − p) + (n − w)·(ref − p)
+    // ≤ w·ref − min w·p + |n − w|·(|ref − c| + r), with (c, r) the bounding sphere. The
+    // margin keeps points within rounding of the plane of a planar light on the safe side.
+    float ahead = bounds.w.dot(ref) - bounds.leastOffset;
+    if (bounds.normalSpread > 0.0f)
+        ahead += bounds.normalSpread * ((ref - bounds.center).norm() + bounds.radius);
+    return ahead < -1e-5f * (std::abs(bounds.leastOffset) + bounds.radius);
+}
+
 bool Mesh::sphericalTrianglesFrom(const Point3f &ref, SphericalTriangles &triangles,
                                   float &total) const {
     if (m_faces.size() > kMaxSolidAngleTriangles)

@@ -9,8 +9,13 @@
 
 namespace nori {
 
+/// Rays traced per thread. Every ray counts, so the lookup must be cheap: a native
+/// thread-local key per counter (pthread_getspecific), not the default's hash table of
+/// thread ids, which cost 1.4 % of a Cornell box render's cycles.
 struct Scene::RayCounter {
-    tbb::enumerable_thread_specific<uint64_t> perThread{0};
+    tbb::enumerable_thread_specific<uint64_t, tbb::cache_aligned_allocator<uint64_t>,
+                                    tbb::ets_key_per_instance>
+        perThread{0};
 };
 
 Scene::Scene(const PropertyList &props) : m_rayCounter(std::make_unique<RayCounter>()) {
