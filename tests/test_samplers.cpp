@@ -127,6 +127,27 @@ TEST_CASE("Sobol's second dimension is its generator matrix applied bit by bit",
     CHECK(definition(2) != sobolSample(2, 0));
 }
 
+TEST_CASE("Reversing bits at run time (GFNI where the CPU has it) matches bit by bit",
+          "[sampler]") {
+    auto definition = [](uint32_t value) {
+        uint32_t reversed = 0;
+        for (int bit = 0; bit < 32; ++bit)
+            if (value & (1u << bit))
+                reversed |= 1u << (31 - bit);
+        return reversed;
+    };
+    PCG32 random(3, 5);
+    for (int i = 0; i < 100000; ++i) {
+        // Every single bit first, then random words.
+        const uint32_t value = i < 32 ? 1u << i : random.nextUInt();
+        CAPTURE(value);
+        REQUIRE(reverseBits(value) == definition(value));
+    }
+    static_assert(reverseBits(0x00000001u) == 0x80000000u &&
+                      reverseBits(0x12345678u) == 0x1e6a2c48u,
+                  "the constant-evaluated way");
+}
+
 TEST_CASE("Scrambling an index keeps each aligned run of 2^k indices together", "[sampler]") {
     for (uint32_t seed : {1u, 0xdeadbeefu, 0x9e3779b9u})
         for (uint32_t k : {0u, 3u, 8u}) {

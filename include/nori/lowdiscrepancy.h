@@ -8,14 +8,28 @@
 #include <array>
 #include <cstdint>
 
+#ifdef __GFNI__
+#include <immintrin.h>
+#endif
+
 namespace nori {
 
 /// The radical inverse of `index` in a prime `base`: its digits mirrored about the radix
 /// point (van der Corput; PBR 4th ed. §8.6.1). Bases 2, 3, 5, ... make the Halton points.
 double radicalInverse(int base, uint64_t index);
 
-/// The 32 bits of `value` in reverse order.
+/// The 32 bits of `value` in reverse order. Where the CPU has GFNI, one affine transform
+/// over GF(2) reverses the bits of each byte (the matrix with ones on its anti-diagonal)
+/// and a byte swap does the rest: 3 instructions instead of 15, three times per 2D Sobol'
+/// point. Constant evaluation (the tables below) takes the portable way.
 constexpr uint32_t reverseBits(uint32_t value) {
+#ifdef __GFNI__
+    if (!__builtin_is_constant_evaluated()) {
+        const __m128i reversedBytes = _mm_gf2p8affine_epi64_epi8(
+            _mm_cvtsi32_si128(static_cast<int>(value)), _mm_set1_epi64x(0x8040201008040201LL), 0);
+        return __builtin_bswap32(static_cast<uint32_t>(_mm_cvtsi128_si32(reversedBytes)));
+    }
+#endif
     value = (value << 16) | (value >> 16);
     value = ((value & 0x00ff00ffu) << 8) | ((value & 0xff00ff00u) >> 8);
     value = ((value & 0x0f0f0f0fu) << 4) | ((value & 0xf0f0f0f0u) >> 4);
