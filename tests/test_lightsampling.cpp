@@ -298,6 +298,7 @@ TEST_CASE("Points behind a one-sided light are known without sampling it", "[lig
         CAPTURE(obj);
         LightFixture fixture(obj);
         std::vector<ShapeSample> points;
+        points.reserve(4000);
         for (int i = 0; i < 4000; ++i)
             points.push_back(
                 fixture.shape->sampleSurface(Point2f(random.nextFloat(), random.nextFloat())));
