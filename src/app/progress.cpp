@@ -10,6 +10,10 @@ namespace nori {
 std::string formatDuration(double seconds) {
     if (seconds < 1.0)
         return fmt::format("{:.0f} ms", seconds * 1000.0);
+    // Two decimals below 10 s: benchmarks read render times of a few seconds from this
+    // line, and 0.1 s would be 1-2 % of them.
+    if (seconds < 10.0)
+        return fmt::format("{:.2f} s", seconds);
     if (seconds < 60.0)
         return fmt::format("{:.1f} s", seconds);
     const long total = std::lround(seconds);
