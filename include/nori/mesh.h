@@ -131,6 +131,7 @@ protected:
     std::vector<Vector3f> m_tangents; ///< per-vertex tangents (along dp/du) when there are uvs
     DiscretePDF m_triangleAreas;      ///< for sampling a triangle by area
 
+private:
     /// What facesAwayFrom() needs (activate() sets it for an emitter's mesh whose normal
     /// cone (w, θ) has θ < 90°): w, the least w·p over the vertices, |n − w| ≤ √(2 − 2 cos θ)
     /// for every normal n, and the bounding sphere that bounds |ref − p|.
@@ -142,7 +143,6 @@ protected:
     };
     std::optional<BackBounds> m_backBounds;
 
-private:
     struct Nori2Arrays {
         MatrixXf positions, normals, texCoords;
         MatrixXu indices;
