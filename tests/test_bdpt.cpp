@@ -240,6 +240,41 @@ TEST_CASE("Each BDPT strategy alone is unbiased for its path length", "[bdpt][st
     }
 }
 
+TEST_CASE("BDPT's next-event estimation chooses lights by the light tree, unbiased",
+          "[bdpt][lighttree][statistical]") {
+    // The diffuse Cornell box with two small sphere lights besides its own, of other
+    // powers, low on the left and high on the right: the light tree's choice at a point
+    // differs much from power's. The strategies s = 1 against path_mis's light of each
+    // path length (1 to 3 scattering events).
+    const std::shared_ptr<Scene> scene =
+        cornellBox(R"(<bsdf type="diffuse"><color name="albedo" value="0.5"/></bsdf>)",
+                   R"(<mesh type="sphere"><point name="center" value="-0.75, 0.25, 0.4"/>
+                       <float name="radius" value="0.08"/>
+                       <emitter type="area"><color name="radiance" value="30"/></emitter></mesh>
+                   <mesh type="sphere"><point name="center" value="0.7, 1.6, -0.5"/>
+                       <float name="radius" value="0.05"/>
+                       <emitter type="area"><color name="radiance" value="10, 20, 40"/></emitter>
+                   </mesh>)");
+    constexpr size_t kSamples = 60000;
+    const auto nextEvent = [](int s, int) { return s == 1; };
+    const StrategyMeans means = strategyMeans(*scene, kSamples, {}, nextEvent);
+    CHECK(means.strategies.size() == 3);
+    CHECK(disagreeing(means).empty());
+
+    SECTION("negative control: the light chosen by the tree, divided by its pmf by power") {
+        const StrategyMeans control = strategyMeans(
+            *scene, kSamples,
+            [&](StrategySample &sample) {
+                if (sample.s == 1 && sample.light)
+                    sample.unweighted *= sample.lightPmf / scene->emitterPmf(sample.light);
+            },
+            nextEvent);
+        const std::vector<std::string> found = disagreeing(control);
+        CAPTURE(found);
+        CHECK(found.size() >= 2);
+    }
+}
+
 namespace {
 
 /// Every strategy's density of the path (s, t) made, computed from scratch from the
@@ -294,9 +329,35 @@ float bruteForceWeight(const Scene &scene, const std::vector<PathVertex> &light,
         else
             fromCamera[j] = BidirectionalPaths::pdfToward(scene, x[j + 1], &x[j + 2], x[j]);
     }
+    // Strategy 1 chooses the light of x_0 as next-event estimation does at x_1 (the light
+    // tree's pmf there), where the light subpaths choose it by power: its density is
+    // fromLight[0] times the ratio of the two (summed over the lights at infinity, whose
+    // directions add).
+    double nextEventRatio = 1.0;
+    if (x[1].kind == PathVertex::Kind::Surface && x[0].isLight()) {
+        auto byTree = [&](const Emitter *emitter) {
+            return static_cast<double>(scene.emitterPmf(x[1].p, x[1].its.shFrame.n, emitter));
+        };
+        auto byPower = [&](const Emitter *emitter) {
+            return static_cast<double>(scene.emitterPmf(emitter));
+        };
+        double tree = 0.0, power = 0.0;
+        if (x[0].atInfinity) {
+            EmitterQueryRecord lRec;
+            lRec.wi = directionBetween(x[1], x[0]);
+            for (const Emitter *emitter : scene.getInfiniteEmitters()) {
+                tree += byTree(emitter) * emitter->pdf(lRec);
+                power += byPower(emitter) * emitter->pdf(lRec);
+            }
+        } else {
+            tree = byTree(x[0].emitter);
+            power = byPower(x[0].emitter);
+        }
+        nextEventRatio = power > 0.0 ? tree / power : 1.0;
+    }
     // Strategy i takes x_0..x_{i−1} from the light and x_i..x_{k−1} from the camera.
     auto density = [&](int i) {
-        double p = 1.0;
+        double p = i == 1 ? nextEventRatio : 1.0;
         for (int j = 0; j < i; ++j)
             p *= fromLight[j];
         for (int j = i; j < k - 1; ++j)

@@ -39,6 +39,9 @@ struct PathVertex {
     Color3f emitted = Color3f(0.0f);
     float pdfForward = 0.0f; ///< density of this vertex as its own subpath sampled it
     float pdfReverse = 0.0f; ///< density of it as the other subpath would sample it
+    /// A light vertex x₀: nextEventChoiceRatio of it and the vertex x₁ next to it on its
+    /// path, kept so that each path's MIS weights evaluate the light tree once.
+    float nextEventRatio = 1.0f;
     bool delta = false;      ///< left by a delta BSDF lobe: no strategy can join here
     bool atInfinity = false; ///< a light at infinity (an environment, a directional light)
     /// Drawn with the subpath for its s = 1 (camera) or t = 1 (light) connection, so that
@@ -68,6 +71,9 @@ struct StrategySample {
     float weight = 0.0f;
     bool splat = false;
     Point2f position = Point2f(0.0f, 0.0f);
+    /// s = 1: the light next-event estimation chose and the probability it chose it with.
+    const Emitter *light = nullptr;
+    float lightPmf = 0.0f;
 };
 
 /// The bidirectional estimator for one camera ray: subpaths, connections, MIS weights.
@@ -130,6 +136,13 @@ public:
     /// the density of the direction, summed over the lights at infinity).
     static float pdfLightOrigin(const Scene &scene, const PathVertex &light,
                                 const PathVertex &next);
+    /// How much likelier next-event estimation (s = 1) at the surface vertex `receiver`
+    /// is to choose the light of the light vertex `light` than a light subpath is: the
+    /// scene's light sampler's pmf there (the light tree's) over the pmf by power, summed
+    /// over the lights at infinity as pdfLightOrigin sums them. 1 where `receiver` is no
+    /// surface. Strategy s = 1's density of a path is pdfLightOrigin's times this.
+    static float nextEventChoiceRatio(const Scene &scene, const PathVertex &light,
+                                      const PathVertex &receiver);
     /// The density at `next` of light leaving the light vertex `light` toward it.
     static float pdfLight(const Scene &scene, const PathVertex &light, const PathVertex &next);
 

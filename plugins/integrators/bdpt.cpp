@@ -2,8 +2,10 @@
  * bdpt — bidirectional path tracing (Veach 1997, ch. 10; PBR 3rd ed. §16.3): each sample
  * traces a subpath from the camera and one from a light (picked by power) and joins them
  * in every way (s, t), s vertices from the light and t from the camera: s = 0 is the
- * camera subpath finding a light, s = 1 next-event estimation, t = 1 light tracing (a
- * splat on whichever pixel sees the point), the rest a segment between two surfaces.
+ * camera subpath finding a light, s = 1 next-event estimation (its light picked as the
+ * path tracers pick it: by the light tree's importance at the point, unless the scene's
+ * lightSampler is "power"), t = 1 light tracing (a splat on whichever pixel sees the
+ * point), the rest a segment between two surfaces.
  * Multiple importance sampling weighs the strategies, so each path is found by the one
  * that samples it best: caustics seen on diffuse surfaces (light, glass, floor, camera)
  * by light tracing, light seen in mirrors by the camera subpath. The weights follow

@@ -45,9 +45,18 @@ float remapZero(float pdf) {
     return pdf != 0.0f ? pdf : 1.0f;
 }
 
-/// The density of a light subpath starting at the light vertex `light` and leaving it
-/// along `travel`.
-float originDensity(const Scene &scene, const PathVertex &light, const Vector3f &travel) {
+/// The probability of choosing `emitter`: by power, as light subpaths start, or, given the
+/// surface vertex `receiver`, as next-event estimation chooses a light for it (the scene's
+/// light sampler: the light tree's importance there, by default).
+float choiceProbability(const Scene &scene, const Emitter *emitter, const PathVertex *receiver) {
+    return receiver ? scene.emitterPmf(receiver->p, receiver->its.shFrame.n, emitter)
+                    : scene.emitterPmf(emitter);
+}
+
+/// The density of a light vertex `light` leaving along `travel`: its light chosen as
+/// choiceProbability(receiver) says, times its position density.
+float originDensity(const Scene &scene, const PathVertex &light, const Vector3f &travel,
+                    const PathVertex *receiver = nullptr) {
     if (light.atInfinity) {
         // A direction at infinity could come from any light at infinity: their densities
         // add (PBR 3rd ed. §16.3.4, InfiniteLightDensity).
@@ -55,10 +64,10 @@ float originDensity(const Scene &scene, const PathVertex &light, const Vector3f 
         lRec.wi = -travel;
         float density = 0.0f;
         for (const Emitter *emitter : scene.getInfiniteEmitters())
-            density += scene.emitterPmf(emitter) * emitter->pdf(lRec);
+            density += choiceProbability(scene, emitter, receiver) * emitter->pdf(lRec);
         return density;
     }
-    return scene.emitterPmf(light.emitter) *
+    return choiceProbability(scene, light.emitter, receiver) *
            light.emitter->emissionDensity(light.p, light.n, travel).position;
 }
 
@@ -88,6 +97,15 @@ void BidirectionalPaths::validate(const Scene &scene, const std::string &plugin)
 float BidirectionalPaths::pdfLightOrigin(const Scene &scene, const PathVertex &light,
                                          const PathVertex &next) {
     return originDensity(scene, light, directionBetween(light, next));
+}
+
+float BidirectionalPaths::nextEventChoiceRatio(const Scene &scene, const PathVertex &light,
+                                               const PathVertex &receiver) {
+    if (receiver.kind != PathVertex::Kind::Surface)
+        return 1.0f;
+    const Vector3f travel = directionBetween(light, receiver);
+    const float byPower = originDensity(scene, light, travel);
+    return byPower > 0.0f ? originDensity(scene, light, travel, &receiver) / byPower : 1.0f;
 }
 
 float BidirectionalPaths::pdfLight(const Scene &scene, const PathVertex &light,
@@ -161,6 +179,8 @@ void BidirectionalPaths::traceLightSubpath(const Scene &scene, Sampler &sampler,
         scene, light, light.travel.isZero() ? Vector3f(emission.ray.d.normalized()) : light.travel);
     path.push_back(light);
     randomWalk(scene, sampler, emission.ray, flux, false, path);
+    if (path.size() > 1)
+        path[0].nextEventRatio = nextEventChoiceRatio(scene, path[0], path[1]);
 }
 
 namespace {
@@ -218,6 +238,7 @@ void BidirectionalPaths::randomWalk(const Scene &scene, Sampler &sampler, Ray3f 
                 vertex.travel = -ray.d.normalized();
                 vertex.p = ray.o;
                 vertex.emitted = lightAtInfinity(scene, ray);
+                vertex.nextEventRatio = nextEventChoiceRatio(scene, vertex, path.back());
                 path.push_back(vertex);
                 linkDensities(scene, path);
             }
@@ -232,8 +253,10 @@ void BidirectionalPaths::randomWalk(const Scene &scene, Sampler &sampler, Ray3f 
         vertex.p = its.p;
         vertex.n = its.geoFrame.n;
         vertex.emitter = its.shape->getEmitter();
-        if (radiance && vertex.emitter)
+        if (radiance && vertex.emitter) {
             vertex.emitted = vertex.emitter->eval(EmitterQueryRecord(ray.o, its));
+            vertex.nextEventRatio = nextEventChoiceRatio(scene, vertex, path.back());
+        }
         path.push_back(vertex);
         linkDensities(scene, path);
         if (path.size() >= maxVertices)
@@ -304,10 +327,11 @@ StrategySample BidirectionalPaths::connect(const Scene &scene, const std::vector
     const Intersection &its = pt.its;
     const Vector3f toCamera = directionBetween(pt, camera[t - 2]);
     if (s == 1) {
-        // Next-event estimation: a new light vertex, chosen by power as light subpaths
-        // start, and a point on that light as the light samples it for `pt`.
+        // Next-event estimation: a new light vertex, its light chosen for `pt` as the path
+        // tracers choose it (by the light tree's importance at pt, by default), and a
+        // point on that light as the light samples it for `pt`.
         float emitterSample = pt.emitterSample, pmf = 0.0f;
-        const Emitter *emitter = scene.sampleEmitter(emitterSample, pmf);
+        const Emitter *emitter = scene.sampleEmitter(its.p, its.shFrame.n, emitterSample, pmf);
         if (!emitter || pmf == 0.0f)
             return result;
         EmitterQueryRecord lRec(its.p);
@@ -320,6 +344,8 @@ StrategySample BidirectionalPaths::connect(const Scene &scene, const std::vector
             return result;
         result.unweighted =
             pt.throughput * f * radianceOverPdf * (std::abs(Frame::cosTheta(query.wo)) / pmf);
+        result.light = emitter;
+        result.lightPmf = pmf;
         sampled = PathVertex();
         sampled.kind = PathVertex::Kind::Light;
         sampled.emitter = emitter;
@@ -329,6 +355,12 @@ StrategySample BidirectionalPaths::connect(const Scene &scene, const std::vector
         if (emitter->getShape())
             sampled.n = lRec.n;
         sampled.pdfForward = pdfLightOrigin(scene, sampled, pt);
+        // The tree's pmf is at hand; a light at infinity shares its directions with the
+        // others there, whose pmfs are not.
+        const float byPower = scene.emitterPmf(emitter);
+        sampled.nextEventRatio = sampled.atInfinity ? nextEventChoiceRatio(scene, sampled, pt)
+                                 : byPower > 0.0f   ? pmf / byPower
+                                                    : 1.0f;
         return result;
     }
     // Both subpaths end on surfaces: join them with a segment (Veach 1997, eq. 10.8), the
@@ -411,22 +443,34 @@ float BidirectionalPaths::misWeight(const Scene &scene, const std::vector<PathVe
     auto heuristic = [&](float ratio) {
         return m_heuristic == MISHeuristic::Power ? ratio * ratio : ratio;
     };
+    // The ratios below take the path's light vertex x₀ as a light subpath starts it, its
+    // light chosen by power. Strategy s = 1 chooses it at x₁ instead (next-event
+    // estimation): its density is r = x₀.nextEventRatio times that, so its term is scaled
+    // by r, and for s = 1 itself every other term by 1/r. (x₁ of s = 2 and t = 1 is shaded
+    // anew, in shadedQs: its r too.)
+    const PathVertex &x0 = s > 0 ? lightVertex(0) : *pt;
+    const float choiceRatio =
+        s == 2 && qs == &shadedQs ? nextEventChoiceRatio(scene, x0, *qs) : x0.nextEventRatio;
 
     // Σ over the other strategies of (p_i/p_s)^β, each ratio from the previous one by one
     // vertex changing sides (Veach 1997, eq. 10.9); strategies that would join at a delta
     // vertex, or hit a delta light, cannot make this path.
+    const float own = s == 1 && choiceRatio > 0.0f ? 1.0f / choiceRatio : 1.0f;
+    auto term = [&](int other, float ratio) {
+        return heuristic(ratio * own * (other == 1 ? choiceRatio : 1.0f));
+    };
     float sum = 0.0f, ratio = 1.0f;
     for (int i = t - 1; i > 0; --i) {
         ratio *= remapZero(cameraReverse(i)) / remapZero(cameraVertex(i).pdfForward);
         if (!cameraDelta(i) && !cameraDelta(i - 1))
-            sum += heuristic(ratio);
+            sum += term(s + t - i, ratio);
     }
     ratio = 1.0f;
     for (int i = s - 1; i >= 0; --i) {
         ratio *= remapZero(lightReverse(i)) / remapZero(lightVertex(i).pdfForward);
         const bool previousDelta = i > 0 ? lightDelta(i - 1) : lightVertex(0).isDeltaLight();
         if (!lightDelta(i) && !previousDelta)
-            sum += heuristic(ratio);
+            sum += term(i, ratio);
     }
     return 1.0f / (1.0f + sum);
 }
