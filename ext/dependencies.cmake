@@ -10,6 +10,8 @@ find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
 find_package(PNG REQUIRED)
 find_package(JPEG REQUIRED)
 find_package(Threads REQUIRED)
+# zlib: compressed meshes (.ply.gz, Mitsuba's `serialized` files).
+find_package(ZLIB REQUIRED)
 # CLI11 (header-only): the programs' command lines.
 find_package(CLI11 2 REQUIRED)
 # The HTTP server of the browser preview (nori --preview). Debian builds cpp-httplib as a

@@ -13,11 +13,11 @@ while (($#)); do
     case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
-    xml | obj | image | lens | volume) targets+=("$1"); shift ;;
+    xml | obj | ply | image | lens | volume) targets+=("$1"); shift ;;
     *) echo "usage: $0 [--seconds N] [--build DIR] [xml] [obj] [image] [lens] [volume]" >&2; exit 2 ;;
     esac
 done
-((${#targets[@]})) || targets=(xml obj image lens volume)
+((${#targets[@]})) || targets=(xml obj ply image lens volume)
 
 # -O1 as libFuzzer's documentation advises; line tables only, which is all the sanitizers'
 # stack traces need and builds faster than full debug information; assertions on (no NDEBUG).
@@ -40,6 +40,7 @@ fuzz_one() {
     case "$target" in
     xml) seeds=("$here/tests/badinput" "$here/scenes/tests" "$here/tests/fuzz/corpus/xml") ;;
     obj) seeds=("$here/tests/fuzz/corpus/obj" "$here/tests/badinput" "$here/scenes/cbox/meshes") ;;
+    ply) seeds=("$here/tests/fuzz/corpus/ply" "$here/tests/data/meshes") ;;
     image) seeds=("$here/tests/fuzz/corpus/image" "$here/scenes/textured/textures") ;;
     lens) seeds=("$here/tests/fuzz/corpus/lens" "$here/scenes/lenses") ;;
     volume) seeds=("$here/tests/fuzz/corpus/volume" "$here/scenes/media") ;;

@@ -20,6 +20,7 @@ packages=(
     pkg-config libcpp-httplib-dev  # the HTTP server of the browser preview (--preview)
     libnanovdb-dev          # NanoVDB grid files of heterogeneous media (header-only)
     libcli11-dev            # the programs' command lines (header-only)
+    zlib1g-dev              # compressed meshes: .ply.gz, Mitsuba's serialized files
 )
 if [ "${1:-}" = "--test" ]; then
     packages+=(

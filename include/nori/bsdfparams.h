@@ -50,4 +50,10 @@ struct ConductorIOR {
 ConductorIOR readConductorIOR(const PropertyList &props, const std::string &plugin,
                               TextureParameters &textures);
 
+/// Reads an index of refraction that may be given as a number or by a material's name
+/// (lookupIOR: "water", "bk7", ...), as Mitsuba's `intIOR` and `extIOR` are; `plugin`
+/// names the BSDF in errors, which also refuse a non-positive index.
+float readIOR(const PropertyList &props, const std::string &name, float defaultValue,
+              const std::string &plugin);
+
 } // namespace nori

@@ -20,6 +20,18 @@ Color3f fresnelConductor(float cosThetaI, const Color3f &eta, const Color3f &k);
 /// RGB fits of measured spectra). Throws NoriException listing the names otherwise.
 void lookupConductor(const std::string &name, Color3f &eta, Color3f &k);
 
+/// The Fresnel diffuse reflectance F_dr(η) = 2 ∫₀¹ F(μ) μ dμ: the fraction of light arriving
+/// with a cosine-weighted (diffuse) distribution that a smooth interface of relative index
+/// η = η_t/η_i reflects (d'Eon and Irving 2011, eq. 6). Integrated numerically (Simpson's
+/// rule on 4096 intervals past the critical angle; error below 1e-6), as Mitsuba 0.6 does
+/// by default.
+float fresnelDiffuseReflectance(float eta);
+
+/// The index of refraction of a named dielectric, from Mitsuba 0.6's table ("vacuum",
+/// "air", "water", "bk7", "polypropylene", "diamond", ...; Mitsuba's documentation,
+/// "dielectric"). Throws NoriException listing the names otherwise.
+float lookupIOR(const std::string &name);
+
 /// Mirror reflection of w about the normal n (w pointing away from the surface),
 /// renormalised: 2(w·n)n − w of float unit vectors can come out one ulp long, with a
 /// z of 1.00000012 near the normal, which is no cosine.

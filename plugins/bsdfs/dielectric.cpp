@@ -4,12 +4,14 @@
  * radiance is scaled by (η_i/η_t)², as radiance transport requires.
  *
  * Parameters:
- *   intIOR  float  1.5046    index of refraction inside (BK7 glass)
- *   extIOR  float  1.000277  index of refraction outside (air)
+ *   intIOR  float  1.5046    index of refraction inside (BK7 glass), or a name from
+ *                            Mitsuba's table ("water", "diamond", "bk7", ...)
+ *   extIOR  float  1.000277  index of refraction outside (air), or a name
  *
  *   <bsdf type="dielectric"><float name="intIOR" value="1.33"/></bsdf>
  */
 #include <nori/bsdf.h>
+#include <nori/bsdfparams.h>
 #include <nori/frame.h>
 #include <nori/fresnel.h>
 
@@ -19,8 +21,8 @@ namespace {
 class Dielectric : public BSDF {
 public:
     explicit Dielectric(const PropertyList &props) {
-        m_intIOR = props.getFloat("intIOR", 1.5046f);
-        m_extIOR = props.getFloat("extIOR", 1.000277f);
+        m_intIOR = readIOR(props, "intIOR", 1.5046f, "dielectric");
+        m_extIOR = readIOR(props, "extIOR", 1.000277f, "dielectric");
         if (!(m_intIOR > 0.0f && m_extIOR > 0.0f))
             throw NoriException("dielectric: 'intIOR' and 'extIOR' must be positive, got {} and {}",
                                 m_intIOR, m_extIOR);

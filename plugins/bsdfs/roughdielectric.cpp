@@ -7,8 +7,9 @@
  * Parameters:
  *   distribution  string  "ggx"     "beckmann" or "ggx"
  *   alpha         float/texture  0.1       roughness (> 0)
- *   intIOR        float   1.5046    index of refraction inside
- *   extIOR        float   1.000277  index of refraction outside
+ *   intIOR        float   1.5046    index of refraction inside, or a name ("water",
+ *                                   "bk7", ...; Mitsuba's table)
+ *   extIOR        float   1.000277  index of refraction outside, or a name
  *
  *   <bsdf type="roughdielectric"><float name="alpha" value="0.2"/></bsdf>
  */
@@ -26,8 +27,8 @@ public:
     explicit RoughDielectric(const PropertyList &props)
         : m_roughness(MicrofacetDistribution::parseType(props.getString("distribution", "ggx")),
                       props, m_textures, "roughdielectric") {
-        m_intIOR = props.getFloat("intIOR", 1.5046f);
-        m_extIOR = props.getFloat("extIOR", 1.000277f);
+        m_intIOR = readIOR(props, "intIOR", 1.5046f, "roughdielectric");
+        m_extIOR = readIOR(props, "extIOR", 1.000277f, "roughdielectric");
         if (!(m_intIOR > 0.0f && m_extIOR > 0.0f) || m_intIOR == m_extIOR)
             throw NoriException("roughdielectric: need positive, different 'intIOR' and 'extIOR'");
     }

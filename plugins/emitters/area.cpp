@@ -26,6 +26,17 @@
  *   <mesh type="obj"><string name="filename" value="scenes/cbox/meshes/light.obj"/>
  *       <emitter type="area"><color name="radiance" value="1"/>
  *           <string name="sampling" value="area"/></emitter></mesh>
+ *
+ *   <mesh type="rectangle"><transform name="toWorld"><scale value="0.5, 0.3, 1"/>
+ *       <rotate axis="1, 0, 0" angle="70"/></transform>
+ *       <emitter type="area"><color name="radiance" value="3"/></emitter></mesh>
+ *
+ *   <mesh type="disk"><transform name="toWorld"><scale value="0.4"/>
+ *       <rotate axis="0, 1, 1" angle="40"/></transform>
+ *       <emitter type="area"><color name="radiance" value="3"/></emitter></mesh>
+ *
+ *   <mesh type="cube"><transform name="toWorld"><scale value="0.2, 0.3, 0.1"/></transform>
+ *       <emitter type="area"><color name="radiance" value="1"/></emitter></mesh>
  */
 #include <nori/emitter.h>
 #include <nori/frame.h>

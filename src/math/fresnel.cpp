@@ -50,6 +50,48 @@ Color3f fresnelConductor(float cosThetaI, const Color3f &eta, const Color3f &k) 
     return Color3f(0.5f * (rp + rs));
 }
 
+float fresnelDiffuseReflectance(float eta) {
+    // Below the critical cosine μc = √(1 − η²) (η < 1) light is totally reflected, F = 1,
+    // which contributes 2 ∫₀^μc μ dμ = μc². Above it F has a square-root edge at μc, which
+    // the substitution μ = μc + (1 − μc) s² smooths for Simpson's rule.
+    const double criticalCosine = eta < 1.0f ? std::sqrt(1.0 - double(eta) * eta) : 0.0;
+    constexpr int kIntervals = 4096;
+    const double h = 1.0 / kIntervals;
+    double sum = 0.0;
+    for (int i = 0; i <= kIntervals; ++i) {
+        const double s = i * h;
+        const double mu = criticalCosine + (1.0 - criticalCosine) * s * s;
+        const double jacobian = 2.0 * (1.0 - criticalCosine) * s;
+        const double weight = (i == 0 || i == kIntervals) ? 1.0 : (i % 2 == 1 ? 4.0 : 2.0);
+        sum += weight * mu * jacobian * fresnelDielectric(static_cast<float>(mu), 1.0f, eta);
+    }
+    return static_cast<float>(criticalCosine * criticalCosine + 2.0 * sum * h / 3.0);
+}
+
+float lookupIOR(const std::string &name) {
+    // Mitsuba 0.6's table of indices of refraction (its documentation, "dielectric").
+    static const std::map<std::string, float> kIndices = {
+        {"vacuum", 1.0f},      {"helium", 1.00004f},         {"hydrogen", 1.00013f},
+        {"air", 1.00028f},     {"carbon dioxide", 1.00045f}, {"water", 1.3330f},
+        {"acetone", 1.36f},    {"ethanol", 1.361f},          {"carbon tetrachloride", 1.461f},
+        {"glycerol", 1.4729f}, {"benzene", 1.501f},          {"silicone oil", 1.52045f},
+        {"bromine", 1.661f},   {"water ice", 1.31f},         {"fused quartz", 1.458f},
+        {"pyrex", 1.470f},     {"acrylic glass", 1.49f},     {"polypropylene", 1.49f},
+        {"bk7", 1.5046f},      {"sodium chloride", 1.544f},  {"amber", 1.55f},
+        {"pet", 1.5750f},      {"diamond", 2.419f},
+    };
+    const auto it = kIndices.find(toLower(name));
+    if (it == kIndices.end()) {
+        std::vector<std::string> names;
+        names.reserve(kIndices.size());
+        for (const auto &entry : kIndices)
+            names.push_back(entry.first);
+        throw NoriException("unknown index of refraction '{}'{} (known: {})", name,
+                            didYouMean(name, names), fmt::join(names, ", "));
+    }
+    return it->second;
+}
+
 void lookupConductor(const std::string &name, Color3f &eta, Color3f &k) {
     static const std::map<std::string, std::pair<Color3f, Color3f>> kMetals = {
         {"Au", {Color3f(0.143119f, 0.374957f, 1.44248f), Color3f(3.98316f, 2.38572f, 1.60322f)}},

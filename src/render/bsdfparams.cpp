@@ -34,6 +34,25 @@ ConductorIOR readConductorIOR(const PropertyList &props, const std::string &plug
     return ior;
 }
 
+float readIOR(const PropertyList &props, const std::string &name, float defaultValue,
+              const std::string &plugin) {
+    float ior = defaultValue;
+    if (props.holdsScalar(name)) {
+        ior = props.getFloat(name);
+    } else if (props.has(name)) {
+        try {
+            ior = lookupIOR(props.getString(name));
+        } catch (const NoriException &error) {
+            throw NoriException("{}: '{}' at {}: {}", plugin, name, props.location(name),
+                                error.what());
+        }
+    }
+    if (!(ior > 0.0f) || !std::isfinite(ior))
+        throw NoriException("{}: '{}' must be a positive index of refraction, got {}", plugin, name,
+                            ior);
+    return ior;
+}
+
 Color3f ConductorIOR::fresnel(const TextureQuery &q, float cosThetaI) const {
     // Textures may hold any value: keep η positive and k non-negative.
     const Color3f etaHere = eta->eval(q).max(1e-4f) / extIOR;

@@ -332,6 +332,40 @@ AgreementScene deltaLights() {
     return scene;
 }
 
+/// The shapes and materials of real scenes (issue 72): a rectangle, a disk and a cylinder
+/// as lights over a floor, a plastic and a rough plastic sphere and a two-sided diffuse
+/// transmitter, so that the new shapes' light sampling (path_ems) agrees with BSDF sampling
+/// hitting them (path_mats).
+AgreementScene shapeLights() {
+    AgreementScene scene;
+    scene.name = "shape-lights";
+    scene.files["floor.obj"] = textFile(floorOBJ(3.0f));
+    scene.body = perspective("0, 1.6, 4", "0, 0.4, 0", 45, 32) + mesh("floor.obj", diffuse("0.6")) +
+                 R"(<mesh type="rectangle"><transform name="toWorld"><scale value="0.5, 0.35, 1"/>
+               <rotate axis="1, 0, 0" angle="100"/><translate value="-1.2, 1.8, -0.5"/></transform>
+               <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+               <emitter type="area"><color name="radiance" value="4, 3.5, 3"/></emitter></mesh>
+           <mesh type="disk"><transform name="toWorld"><scale value="0.4"/>
+               <rotate axis="1, 0, 0" angle="60"/><translate value="1.2, 1.6, -0.8"/></transform>
+               <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+               <emitter type="area"><color name="radiance" value="3, 3.5, 4"/></emitter></mesh>
+           <mesh type="cylinder"><point name="p0" value="-0.6, 2.2, -1.5"/>
+               <point name="p1" value="0.6, 2.2, -1.5"/><float name="radius" value="0.08"/>
+               <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+               <emitter type="area"><color name="radiance" value="6"/></emitter></mesh>)" +
+                 sphere("-0.6, 0.5, 0", 0.5f, R"(<bsdf type="plastic">
+            <color name="diffuseReflectance" value="0.2, 0.4, 0.7"/></bsdf>)") +
+                 sphere("0.6, 0.45, 0.1", 0.45f, R"(<bsdf type="roughplastic">
+            <float name="alpha" value="0.15"/><color name="diffuseReflectance" value="0.7, 0.5, 0.2"/></bsdf>)") +
+                 R"(<mesh type="rectangle"><transform name="toWorld"><scale value="0.4"/>
+               <rotate axis="0, 1, 0" angle="20"/><translate value="0, 0.5, -1.2"/></transform>
+               <bsdf type="diffusetransmission"/></mesh>)";
+    scene.regions = {{"floor", 0, 24, 32, 8}, {"spheres", 6, 10, 20, 10}};
+    scene.estimators = {pathTracer("path_mis", 512), pathTracer("path_ems", 512),
+                        pathTracer("path_mats", 2048)};
+    return scene;
+}
+
 /// A floor with a checkerboard albedo texture and a normal map of ridges, under a
 /// tilted square light.
 AgreementScene texturedPlane() {
@@ -505,8 +539,9 @@ AgreementScene lensCamera(bool realistic) {
 } // namespace
 
 std::vector<AgreementScene> agreementMatrixScenes() {
-    return {cornellBox(), glossyPlates(), skyWithSun(), deltaLights(),     texturedPlane(),
-            media(),      instances(),    disney(),     lensCamera(false), lensCamera(true)};
+    return {cornellBox(),      glossyPlates(),   skyWithSun(), deltaLights(),
+            texturedPlane(),   media(),          instances(),  disney(),
+            lensCamera(false), lensCamera(true), shapeLights()};
 }
 std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXML, bool withMedia) {
     const Estimator reference = pathTracer("path_mis", 128);

@@ -1,0 +1,57 @@
+/*
+ * ply — a triangle mesh read from a PLY file (plyfile.h): ASCII or binary (either byte
+ * order), plain or gzip-compressed (.ply.gz), triangles and polygons (split into fans),
+ * vertex normals and uvs under the names PLY writers use (u v, s t, texture_u texture_v,
+ * texture_s texture_t). Used when every vertex has them; otherwise the geometric normal
+ * and barycentric uvs are, as for `obj`. The same file as an OBJ renders the same.
+ *
+ * Parameters:
+ *   filename     string     (required)  PLY file, relative to the XML file's folder
+ *   toWorld      transform  identity    object-to-world transform
+ *   faceNormals  boolean    false       ignore the file's vertex normals (flat shading)
+ *   flipNormals  boolean    false       reverse the faces' orientation
+ *   uvScale      vector     (1, 1)      uv are scaled by this for textures
+ *   normal       texture    —           tangent-space normal map
+ *   bump         texture    —           height map for bump mapping
+ *   bumpScale    float      1           the heights are scaled by this
+ *   visible      boolean    true        false: only a template for tmesh copies
+ *
+ *   <mesh type="ply">
+ *       <string name="filename" value="tests/data/meshes/quad.ply"/>
+ *   </mesh>
+ */
+#include <nori/mesh.h>
+#include <nori/plyfile.h>
+#include <nori/shading.h>
+
+namespace nori {
+namespace {
+
+class PlyShape : public Mesh {
+public:
+    explicit PlyShape(const PropertyList &props) {
+        m_name = props.getPath("filename");
+        const Transform toWorld = props.getTransform("toWorld", Transform());
+        const bool faceNormals = props.getBoolean("faceNormals", false);
+        const bool flip = props.getBoolean("flipNormals", false);
+        readSurfaceParameters(*this, props);
+        PlyMesh mesh = readPLY(m_name);
+        m_positions = std::move(mesh.positions);
+        m_texCoords = std::move(mesh.texCoords);
+        if (!faceNormals)
+            m_normals = std::move(mesh.normals);
+        m_faces = std::move(mesh.triangles);
+        if (flip) {
+            for (Vector3i &face : m_faces)
+                std::swap(face.y(), face.z());
+            for (Normal3f &normal : m_normals)
+                normal = -normal;
+        }
+        finishLoading(toWorld);
+    }
+};
+
+NORI_REGISTER_CLASS(PlyShape, "ply");
+
+} // namespace
+} // namespace nori
