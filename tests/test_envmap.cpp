@@ -10,6 +10,7 @@
 #include <nori/parser.h>
 #include <nori/pcg32.h>
 #include <nori/samplingroutines.h>
+#include <nori/warp.h>
 
 #include <catch2/catch.hpp>
 
@@ -317,4 +318,78 @@ TEST_CASE("Camera rays see the environment filtered over their pixel footprint",
     const float pointwise = envmap->eval(EmitterQueryRecord(ray, false)).r();
     CHECK(filtered == Approx(0.5f).margin(0.05f));
     CHECK((pointwise == 0.0f || pointwise == 1.0f));
+}
+
+TEST_CASE("The equal-area map round-trips, and square maps are sampled by luminance alone",
+          "[envmap][chi2]") {
+    // Clarberg's map and its inverse agree over the square, corners and diagonals included.
+    PCG32 random(8, 1);
+    for (int i = 0; i < 10000; ++i) {
+        const Point2f p(random.nextFloat(), random.nextFloat());
+        const Vector3f d = Warp::squareToEqualAreaSphere(p);
+        REQUIRE(d.norm() == Approx(1.0f).margin(1e-5));
+        const Point2f back = Warp::equalAreaSphereToSquare(d);
+        INFO(p.transpose() << " -> " << d.transpose() << " -> " << back.transpose());
+        REQUIRE((back - p).norm() < 2e-5f);
+    }
+    // Square maps: a gradient with a sun, a one-hot texel, and the map of the doc example.
+    TempDir dir;
+    const std::vector<std::string> maps = {
+        writeMap(dir, "sun.exr", 64, 64,
+                 [](int x, int y) {
+                     const bool sun = std::abs(x - 40) <= 1 && std::abs(y - 12) <= 1;
+                     return Color3f(sun ? 300.0f : 0.1f + 0.01f * float(x + y));
+                 }),
+        writeMap(dir, "onehot.exr", 16, 16,
+                 [](int x, int y) { return Color3f(x == 3 && y == 11 ? 1.0f : 0.0f); }),
+        std::string(NORI_SOURCE_DIR) + "/tests/data/envmaps/equalarea.pfm"};
+    ChiSquareOptions options;
+    options.sampleCount = 500000;
+    options.significanceLevel = sidakCorrection(0.01, static_cast<int>(maps.size()));
+    for (const std::string &file : maps) {
+        CAPTURE(file);
+        auto envmap = loadEnvmap(file, R"(<string name="mapping" value="equalarea"/>
+            <transform name="toWorld"><rotate axis="1, 0, 0" angle="-90"/></transform>)");
+        options.seed += 1;
+        const ChiSquareReport report =
+            runChiSquareTest(emitterRoutine(*envmap, Point3f(0.0f, 0.0f, 0.0f)), options);
+        INFO(report.result.message);
+        CHECK(report.result.passed);
+        // Each texel covers 4π/(W·H): the constant part of a map integrates exactly.
+        PCG32 directions(2, 2);
+        for (int i = 0; i < 200; ++i) {
+            EmitterQueryRecord lRec(Point3f(0.0f, 0.0f, 0.0f));
+            const float u = directions.nextFloat();
+            const Color3f weight = envmap->sample(lRec, Point2f(u, directions.nextFloat()));
+            if ((weight == 0.0f).all())
+                continue;
+            REQUIRE(envmap->pdf(lRec) == Approx(lRec.pdf).epsilon(1e-3));
+        }
+    }
+    // The control: a lat-long density (with 1/sin θ) for a square map.
+    auto envmap = loadEnvmap(maps[0], R"(<string name="mapping" value="equalarea"/>)");
+    SamplingRoutine wrong = emitterRoutine(*envmap, Point3f(0.0f, 0.0f, 0.0f));
+    const SamplingRoutine right = wrong;
+    wrong.pdf = [right](const Vector3f &w) -> double {
+        const double sinTheta = std::sqrt(std::max(0.0, 1.0 - double(w.z()) * w.z()));
+        return sinTheta > 0.0 ? right.pdf(w) * 2.0 / (kPiDouble * sinTheta) : 0.0;
+    };
+    options.seed += 1;
+    CHECK_FALSE(runChiSquareTest(wrong, options).result.passed);
+    CHECK_THAT(errorOf([&] {
+                   loadEnvmap(
+                       writeMap(dir, "wide.exr", 8, 4, [](int, int) { return Color3f(1.0f); }),
+                       R"(<string name="mapping" value="equalarea"/>)");
+               }),
+               Catch::Contains("an equal-area map is square"));
+}
+
+TEST_CASE("A diffuse floor under a constant equal-area map reflects albedo times L",
+          "[envmap][ttest]") {
+    TempDir dir;
+    const std::string white =
+        writeMap(dir, "white.exr", 8, 8, [](int, int) { return Color3f(2.0f); });
+    for (const std::string &integrator : kEnvironmentIntegrators)
+        tTest(*floorUnder(white, integrator, R"(<string name="mapping" value="equalarea"/>)"),
+              0.5 * 2.0, 4000);
 }

@@ -151,7 +151,7 @@ TEST_CASE("Image loading errors name the file", "[image]") {
                Contains("cannot open image file '/nonexistent/image.exr': no such file"));
     const std::string bad = dir.write("broken.exr", "not an exr file");
     CHECK_THAT(errorOf([&] { Bitmap::load(bad); }),
-               Contains("broken.exr' is not a PNG, JPEG, Radiance HDR, OpenEXR or PFM image"));
+               Contains("broken.exr' is not a PNG, JPEG, Radiance HDR, OpenEXR, PFM or TGA image"));
     const std::string tiff = dir.write("image.tiff", "x");
     CHECK_THAT(errorOf([&] { Bitmap::load(tiff); }), Contains("image.tiff' is not a PNG"));
     CHECK_THAT(errorOf([&] { Bitmap::load(dir.path().string()); }),

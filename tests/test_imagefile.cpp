@@ -4,6 +4,7 @@
 // or a leak (the sanitizer build runs these under ASan and LeakSanitizer).
 #include "testutil.h"
 
+#include <nori/filesystem.h>
 #include <nori/imagefile.h>
 
 #include <catch2/catch.hpp>
@@ -249,7 +250,48 @@ TEST_CASE("Hostile image files end in an error naming the file", "[imagefile]") 
         }
     }
     SECTION("an unknown signature") {
-        CHECK_THAT(errorOf([] { decodeImageFile("GIF89a......", "anim.gif"); }),
-                   Contains("'anim.gif' is not a PNG, JPEG, Radiance HDR, OpenEXR or PFM image"));
+        CHECK_THAT(
+            errorOf([] { decodeImageFile("GIF89a......", "anim.gif"); }),
+            Contains("'anim.gif' is not a PNG, JPEG, Radiance HDR, OpenEXR, PFM or TGA image"));
     }
+}
+
+TEST_CASE("TGA images decode in every layout, and a broken one is located", "[imagefile]") {
+    const std::string folder = std::string(NORI_SOURCE_DIR) + "/tests/fuzz/corpus/tga/";
+    auto load = [&](const std::string &name) { return readImageFile(folder + name); };
+    // Stored bottom-up, BGR: the first stored pixel (red) is the bottom-left one.
+    const ImageFile rgb = load("rgb24.tga");
+    CHECK(rgb.integerEncoded);
+    REQUIRE(rgb.pixels.rows() == 2);
+    CHECK(rgb.pixels(1, 0).isApprox(Color3f(1, 0, 0)));
+    CHECK(rgb.pixels(1, 1).isApprox(Color3f(0, 1, 0)));
+    CHECK(rgb.pixels(0, 0).isApprox(Color3f(0, 0, 1)));
+    // Top-left origin (descriptor bit 5), an image id to skip, alpha dropped.
+    const ImageFile topLeft = load("rgba32-topleft.tga");
+    CHECK(topLeft.pixels(0, 0).isApprox(Color3f(1, 0, 0)));
+    CHECK(topLeft.pixels(1, 1).isApprox(Color3f(30, 20, 10) / 255.0f));
+    // Run-length packets, grey, a colour map, 5-5-5 bits with a version 2.0 footer.
+    const ImageFile rle = load("rle24.tga");
+    CHECK(rle.pixels(0, 0).isApprox(Color3f(3, 2, 1) / 255.0f));
+    CHECK(rle.pixels(0, 1).isApprox(Color3f(3, 2, 1) / 255.0f));
+    CHECK(rle.pixels(0, 2).isApprox(Color3f(7, 8, 9) / 255.0f));
+    CHECK(load("grey-rle.tga").pixels(1, 1).isApprox(Color3f(200.0f / 255.0f)));
+    const ImageFile mapped = load("mapped.tga");
+    CHECK(mapped.pixels(0, 0).isApprox(Color3f(0.0f)));
+    CHECK(mapped.pixels(0, 1).isApprox(Color3f(1.0f)));
+    const std::string footer = readBinaryFile(folder + "rgb16-footer.tga", "test");
+    CHECK(decodeImageFile(footer, "no-extension").pixels(0, 0).isApprox(Color3f(1, 0, 0)));
+
+    std::string truncated = readBinaryFile(folder + "rgb24.tga", "test");
+    truncated.resize(truncated.size() - 2);
+    CHECK_THAT(errorOf([&] { decodeImageFile(truncated, "cut.tga"); }),
+               Catch::Contains("TGA image 'cut.tga' is invalid: the file ends early"));
+    std::string runaway = readBinaryFile(folder + "rle24.tga", "test");
+    runaway[18] = static_cast<char>(0x85); // a run of 6 in a 3-pixel image
+    CHECK_THAT(errorOf([&] { decodeImageFile(runaway, "run.tga"); }),
+               Catch::Contains("runs past the end of the image"));
+    std::string huge = readBinaryFile(folder + "rgb24.tga", "test");
+    huge[12] = huge[13] = huge[14] = huge[15] = static_cast<char>(0xff);
+    CHECK_THAT(errorOf([&] { decodeImageFile(huge, "huge.tga"); }),
+               Catch::Contains("unsupported size 65535x65535"));
 }

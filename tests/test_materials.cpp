@@ -15,6 +15,7 @@
 #include <catch2/catch.hpp>
 
 using namespace nori;
+using namespace nori::testing;
 
 namespace {
 

@@ -5,11 +5,13 @@
 
 #include <nori/compression.h>
 #include <nori/emitter.h>
+#include <nori/filesystem.h>
 #include <nori/parser.h>
 #include <nori/plyfile.h>
 #include <nori/render.h>
 #include <nori/samplingroutines.h>
 #include <nori/scene.h>
+#include <nori/serializedfile.h>
 #include <nori/shape.h>
 
 #include <catch2/catch.hpp>
@@ -44,14 +46,14 @@ std::vector<std::string> lightShapes() {
     };
 }
 
-/// The same little mesh (two quads, one with a uv seam) as OBJ text and as PlyMesh.
+/// The same little mesh (two quads, one with a uv seam) as OBJ text and as MeshData.
 const char *const kOBJ = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0.5\nv 2 1 0.5\n"
                          "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0\nvt 0.5 1\n"
                          "vn 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn -0.4 0 0.9\nvn -0.4 0 0.9\n"
                          "f 1/1/1 2/2/2 3/3/3 4/4/4\nf 2/2/2 5/5/5 6/6/6 3/3/3\n";
 
-PlyMesh plyOfOBJ() {
-    PlyMesh mesh;
+MeshData plyOfOBJ() {
+    MeshData mesh;
     mesh.positions = {Point3f(0, 0, 0), Point3f(1, 0, 0),    Point3f(1, 1, 0),
                       Point3f(0, 1, 0), Point3f(2, 0, 0.5f), Point3f(2, 1, 0.5f)};
     mesh.texCoords = {Point2f(0, 0), Point2f(1, 0),    Point2f(1, 1),
@@ -62,7 +64,7 @@ PlyMesh plyOfOBJ() {
     return mesh;
 }
 
-std::string asciiPLY(const PlyMesh &mesh, const std::string &uvNames) {
+std::string asciiPLY(const MeshData &mesh, const std::string &uvNames) {
     std::string text = fmt::format("ply\r\nformat ascii 1.0\ncomment by hand\nelement vertex {}\n"
                                    "property float x\nproperty float y\nproperty float z\n"
                                    "property float nx\nproperty float ny\nproperty float nz\n"
@@ -79,7 +81,7 @@ std::string asciiPLY(const PlyMesh &mesh, const std::string &uvNames) {
 
 /// A binary big-endian PLY of the mesh, with a double position type, a ushort-counted
 /// list and an extra per-face property to skip.
-std::string bigEndianPLY(const PlyMesh &mesh) {
+std::string bigEndianPLY(const MeshData &mesh) {
     std::string bytes = fmt::format("ply\nformat binary_big_endian 1.0\nelement vertex {}\n"
                                     "property double x\nproperty double y\nproperty double z\n"
                                     "property float nx\nproperty float ny\nproperty float nz\n"
@@ -233,7 +235,7 @@ TEST_CASE("Mitsuba's shapes have its sizes, normals and uv", "[shape]") {
 TEST_CASE("A PLY mesh in any encoding renders bit for bit as the same mesh in an OBJ",
           "[shape][ply]") {
     TempDir folder;
-    const PlyMesh mesh = plyOfOBJ();
+    const MeshData mesh = plyOfOBJ();
     folder.write("mesh.obj", kOBJ);
     folder.write("ascii.ply", asciiPLY(mesh, "u\nproperty float v"));
     folder.write("texture.ply", asciiPLY(mesh, "texture_u\nproperty float texture_v"));
@@ -244,7 +246,7 @@ TEST_CASE("A PLY mesh in any encoding renders bit for bit as the same mesh in an
 
     // The same arrays, whatever the encoding (the OBJ's corners are in file order).
     for (const char *name : {"ascii.ply", "texture.ply", "big.ply", "big.ply.gz", "little.ply"}) {
-        const PlyMesh read = readPLY((folder.path() / name).string());
+        const MeshData read = readPLY((folder.path() / name).string());
         INFO(name);
         CHECK(read.positions == mesh.positions);
         CHECK(read.normals == mesh.normals);
@@ -296,4 +298,47 @@ TEST_CASE("A malformed PLY file is an error naming the file and where", "[shape]
     }
     const std::string truncated = folder.write("truncated.ply.gz", gzip(header).substr(0, 20));
     CHECK_THAT(errorOf([&] { readPLY(truncated); }), Catch::Contains("compressed data"));
+}
+
+TEST_CASE("A serialized mesh loads the mesh it names and renders as the same OBJ",
+          "[shape][serialized]") {
+    // tests/data/meshes/quads.serialized: mesh 0 a triangle, mesh 1 the quad [−1, 1]² with
+    // normals and uvs (written by hand, format version 4).
+    const std::string path = std::string(NORI_SOURCE_DIR) + "/tests/data/meshes/quads.serialized";
+    const SerializedMesh triangle = readSerialized(path, 0);
+    CHECK(triangle.name == "triangle");
+    CHECK(triangle.data.positions.size() == 3);
+    CHECK(triangle.data.normals.empty());
+    const SerializedMesh quad = readSerialized(path, 1);
+    CHECK(quad.name == "quad");
+    CHECK(quad.data.triangles == std::vector<Vector3i>{Vector3i(0, 1, 2), Vector3i(2, 3, 0)});
+    CHECK(quad.data.texCoords.size() == 4);
+    CHECK_THAT(errorOf([&] { readSerialized(path, 2); }),
+               Catch::Contains("'shapeIndex' 2 is out of range (the file holds 2 meshes"));
+
+    TempDir folder;
+    folder.write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                             "vt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 3/3/1 4/4/1 1/1/1\n");
+    const auto render = [&](const std::string &meshXML) {
+        return renderScene(*loadScene(sceneWith(meshXML), folder.path().string()), quietOptions(2))
+            .image;
+    };
+    const std::string place =
+        R"(<transform name="toWorld"><translate value="1, 0.5, 0"/></transform>)";
+    CHECK(identicalImages(
+        render(R"(<mesh type="obj"><string name="filename" value="quad.obj"/>)" + place +
+               "</mesh>"),
+        render(fmt::format(R"(<mesh type="serialized"><string name="filename" value="{}"/>
+            <integer name="shapeIndex" value="1"/>{}</mesh>)",
+                           path, place))));
+
+    std::string bytes = readBinaryFile(path, "test");
+    std::string damaged = bytes;
+    damaged[10] = static_cast<char>(damaged[10] ^ 0x55); // inside mesh 0's zlib stream
+    CHECK_THAT(errorOf([&] { parseSerialized(damaged, 0, "damaged"); }),
+               Catch::Contains("'damaged'") && Catch::Contains("mesh 0 (at byte 0)"));
+    CHECK_THAT(errorOf([&] { parseSerialized(bytes.substr(0, bytes.size() - 1), 0, "cut"); }),
+               Catch::Contains("serialized mesh file 'cut'"));
+    CHECK_THAT(errorOf([&] { parseSerialized("PK\x03\x04 not a mesh", 0, "zip"); }),
+               Catch::Contains("not the format's identifier 0x041c"));
 }

@@ -259,3 +259,32 @@ TEST_CASE("A texture holding NaN is refused, naming the file and pixel", "[textu
     CHECK_THAT(errorOf([&] { loadTextureImage(file, ColorSpace::Auto); }),
                Contains("nan.exr' holds a NaN or infinite value at pixel (2, 1)"));
 }
+
+TEST_CASE("scale and mix textures combine their inputs as pbrt-v4 defines them", "[textures]") {
+    auto texture = [](const std::string &xml) {
+        auto bsdf = std::dynamic_pointer_cast<BSDF>(
+            loadFromXMLString("<bsdf type=\"diffuse\">" + xml + "</bsdf>"));
+        REQUIRE(bsdf);
+        return bsdf->textures().all().front();
+    };
+    const auto scaled = texture(R"(<texture type="scale" name="albedo">
+        <texture type="checkerboard" name="tex"><color name="color0" value="0.8"/>
+            <color name="color1" value="0.4"/><float name="scale" value="1"/></texture>
+        <color name="scale" value="0.5, 1, 0.25"/></texture>)");
+    CHECK(scaled->eval(TextureQuery(Point2f(0.25f, 0.25f))).isApprox(Color3f(0.4f, 0.8f, 0.2f)));
+    CHECK(scaled->eval(TextureQuery(Point2f(1.25f, 0.25f))).isApprox(Color3f(0.2f, 0.4f, 0.1f)));
+    CHECK(scaled->average().isApprox(Color3f(0.3f, 0.6f, 0.15f)));
+    CHECK_FALSE(scaled->isConstant());
+
+    const auto mixed = texture(R"(<texture type="mix" name="albedo">
+        <color name="tex1" value="1, 0, 0"/><color name="tex2" value="0, 0, 1"/>
+        <texture type="checkerboard" name="amount"><color name="color0" value="0.25"/>
+            <color name="color1" value="1"/><float name="scale" value="1"/></texture></texture>)");
+    CHECK(mixed->eval(TextureQuery(Point2f(0.5f, 0.5f))).isApprox(Color3f(0.75f, 0.0f, 0.25f)));
+    CHECK(mixed->eval(TextureQuery(Point2f(1.5f, 0.5f))).isApprox(Color3f(0.0f, 0.0f, 1.0f)));
+    const auto constant = texture(R"(<texture type="mix" name="albedo">
+        <color name="tex1" value="0.2"/><color name="tex2" value="0.6"/>
+        <float name="amount" value="0.5"/></texture>)");
+    CHECK(constant->isConstant());
+    CHECK(constant->average().isApprox(Color3f(0.4f)));
+}

@@ -104,6 +104,7 @@ private:
 
     std::vector<const Shape *> m_shapes;
     std::vector<uint8_t> m_isMesh; ///< per shape: a Mesh, tested inline
+    bool m_hasOpacity = false;     ///< some shape has an alpha mask (the slow path)
     /// The ids of leaf slot `slot`.
     PrimitiveId idOf(uint32_t slot) const {
         const TrianglePacket &packet = m_packets[slot / TrianglePacket::kWidth];

@@ -3,6 +3,7 @@
 // allocate without limit.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -12,6 +13,10 @@ enum class CompressedFormat {
     Zlib, ///< a zlib stream (RFC 1950)
     Gzip  ///< a gzip file (RFC 1952)
 };
+
+/// The most a compressed mesh file may inflate to: 16 GiB, beyond any mesh a machine of
+/// 24 GiB renders, so that a hostile stream is stopped there.
+constexpr size_t kMaxInflatedMeshBytes = size_t(16) << 30;
 
 /// Whether bytes start with gzip's magic number 1f 8b.
 bool isGzip(std::string_view bytes);

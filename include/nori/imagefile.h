@@ -1,5 +1,6 @@
 // Decoding image files read from outside (textures, environment maps, renders to
-// compare): PNG, JPEG, Radiance HDR, OpenEXR and PFM, recognised by their first bytes. Every
+// compare): PNG, JPEG, Radiance HDR, OpenEXR and PFM, recognised by their first bytes, and
+// TGA, which has no signature, by its name (".tga") or its version 2.0 footer. Every
 // decoder bounds the image size before allocating and turns any defect of the file into a
 // NoriException naming it — never a crash, a hang or a leak (each format has a fuzz target).
 #pragma once
@@ -14,7 +15,7 @@ namespace nori {
 /// The pixels of an image file as stored, before any colour conversion.
 struct ImageFile {
     Bitmap pixels;
-    /// True for 8- and 16-bit formats (PNG, JPEG): values are the integers scaled to
+    /// True for 8- and 16-bit formats (PNG, JPEG, TGA): values are the integers scaled to
     /// [0, 1], sRGB-encoded by convention. False for float formats (HDR, EXR): linear.
     bool integerEncoded = false;
 };

@@ -3,21 +3,12 @@
 // arrays of a triangle mesh; and written, binary, for `nori convert`.
 #pragma once
 
-#include <nori/vector.h>
+#include <nori/meshdata.h>
 
 #include <string>
 #include <string_view>
-#include <vector>
 
 namespace nori {
-
-/// A triangle mesh as a PLY file holds it: normals and uvs are empty or one per vertex.
-struct PlyMesh {
-    std::vector<Point3f> positions;
-    std::vector<Normal3f> normals;
-    std::vector<Point2f> texCoords;
-    std::vector<Vector3i> triangles;
-};
 
 /// Reads a PLY file (gzip-compressed when it starts with gzip's magic number). Vertices
 /// give x, y, z and optionally nx, ny, nz and uv under any of the names PLY writers use
@@ -25,12 +16,12 @@ struct PlyMesh {
 /// `vertex_index`), polygons of any size split into fans; other elements and properties
 /// are skipped. Throws NoriException with the file and the line (ASCII) or byte offset
 /// (binary) of what is malformed.
-PlyMesh readPLY(const std::string &path);
+MeshData readPLY(const std::string &path);
 /// As readPLY, from the file's bytes (already inflated); `name` names it in errors.
-PlyMesh parsePLY(std::string_view bytes, const std::string &name);
+MeshData parsePLY(std::string_view bytes, const std::string &name);
 
 /// Writes a binary little-endian PLY file (float positions, normals and uvs when present,
 /// uchar/int triangle lists). Throws NoriException when it cannot.
-void writePLY(const std::string &path, const PlyMesh &mesh);
+void writePLY(const std::string &path, const MeshData &mesh);
 
 } // namespace nori

@@ -36,8 +36,24 @@ private:
     float m_bumpScale = 1.0f;
 };
 
-/// Reads the parameters every shape plugin shares, `visible` and those of
-/// SurfaceShading::read, into `shape`. Shape plugins call it from their constructor.
+/// An alpha mask: the opacity of a surface from a float texture (a shape's `alpha`,
+/// pbrt-v4's `alpha`, Mitsuba's `mask` BSDF), looked up at the texture uv the shape's
+/// uvScale gives.
+class AlphaMask : public SurfaceOpacity {
+public:
+    /// `shape` is the shape it will be attached to (for its uvScale).
+    AlphaMask(std::shared_ptr<const Texture> opacity, const Shape &shape);
+    float opacityAtHit(const Intersection &its) const override;
+    float opacityAt(const Point2f &textureUV, const Point3f &p) const override;
+
+private:
+    std::shared_ptr<const Texture> m_opacity;
+    const Shape &m_shape;
+};
+
+/// Reads the parameters every shape plugin shares, `visible`, `alpha` (a float or float
+/// texture: the opacity, 1 everywhere by default) and those of SurfaceShading::read, into
+/// `shape`. Shape plugins call it from their constructor.
 void readSurfaceParameters(Shape &shape, const PropertyList &props);
 
 /// What the scene does to every hit after the shape's setHitInformation: applies the

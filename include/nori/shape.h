@@ -19,6 +19,7 @@ class Medium;
 class Shape;
 class SurfaceShading;
 class TMeshSet;
+struct Intersection;
 
 /// The media on the two sides of a surface, as a shape carries them: `interior` where
 /// the geometric normal points away from, `exterior` where it points to. nullptr is
@@ -45,6 +46,27 @@ struct ShapeSample {
     uint32_t primitive = kUnknownPrimitive;
     static constexpr uint32_t kUnknownPrimitive = UINT32_MAX;
 };
+
+/// What makes a surface partly absent: an alpha mask (a leaf's cut-out), α in [0, 1] at
+/// each point. The render layer attaches one (shading.h: a shape's `alpha`, Mitsuba's
+/// `mask`); the acceleration structure asks it before it accepts a hit, so every ray
+/// (camera, scattered, shadow) passes through where the surface is absent and no
+/// integrator needs to know.
+class SurfaceOpacity {
+public:
+    virtual ~SurfaceOpacity() = default;
+    /// α at a ray hit, `its` as setHitInformation() fills it (the shape's own uv).
+    virtual float opacityAtHit(const Intersection &its) const = 0;
+    /// α at a point given by its texture uv (a light's sampled point, an emitter query).
+    virtual float opacityAt(const Point2f &textureUV, const Point3f &p) const = 0;
+};
+
+/// Whether a point of opacity α is there: always for α ≥ 1, never for α ≤ 0, and otherwise
+/// when a hash of the point's coordinates, uniform in [0, 1), falls below α (pbrt-v4's
+/// AlphaMasked). The choice is fixed per point, so every ray and every light query sees the
+/// same surface, and over the continuum of points a pixel covers it is present a fraction α
+/// of the time, independently for every surface a ray crosses.
+bool surfacePresent(float alpha, const Point3f &p);
 
 struct Intersection {
     Point3f p;           ///< hit position
@@ -151,6 +173,12 @@ public:
     /// The uv scale and normal or bump map of the surface (shading.h), or nullptr.
     const SurfaceShading *getSurfaceShading() const { return m_shading.get(); }
     std::shared_ptr<const SurfaceShading> getSurfaceShadingPtr() const { return m_shading; }
+    /// The alpha mask that makes parts of the surface absent, or nullptr (opaque).
+    const SurfaceOpacity *getOpacity() const { return m_opacity.get(); }
+    void setOpacity(std::shared_ptr<const SurfaceOpacity> opacity);
+    /// Whether the hit of primitive `index` at distance t (hitCoords from rayIntersect) is
+    /// on a present part of the surface (surfacePresent at the hit point).
+    bool presentAt(uint32_t index, const Ray3f &ray, float t, const Point2f &hitCoords) const;
     /// The media inside and outside the surface (nullptr: vacuum).
     MediumInterface getMediumInterface() const { return {m_interior.get(), m_exterior.get()}; }
     /// Whether the shape bounds a medium (an `interior` or `exterior` child): rays crossing
@@ -193,6 +221,7 @@ protected:
     std::shared_ptr<BSDF> m_bsdf;
     std::shared_ptr<Emitter> m_emitter;
     std::shared_ptr<Medium> m_interior, m_exterior;
+    std::shared_ptr<const SurfaceOpacity> m_opacity;
     bool m_visible = true;
     std::shared_ptr<TMeshSet> m_tmeshes;
 };

@@ -53,6 +53,15 @@ public:
     static Vector3f squareToUniformSphere(const Point2f &sample);
     static float squareToUniformSpherePdf(const Vector3f &v);
 
+    /// Uniform on the unit sphere by Clarberg's equal-area octahedral map (Clarberg 2008,
+    /// "Fast Equal-Area Mapping of the (Hemi)Sphere using SIMD"; PBR 4th ed. §3.8.3): the
+    /// square's inner diamond covers z ≥ 0, its corners z < 0. pbrt-v4's square
+    /// environment maps are images of it. Density 1/4π.
+    static Vector3f squareToEqualAreaSphere(const Point2f &sample);
+    static float squareToEqualAreaSpherePdf(const Vector3f &v);
+    /// The inverse: the point of [0, 1]² that squareToEqualAreaSphere sends to v (unit).
+    static Point2f equalAreaSphereToSquare(const Vector3f &v);
+
     /// Uniform on the hemisphere z ≥ 0; density 1/2π.
     static Vector3f squareToUniformHemisphere(const Point2f &sample);
     static float squareToUniformHemispherePdf(const Vector3f &v);

@@ -87,9 +87,14 @@ public:
     }
 
     Color3f eval(const EmitterQueryRecord &lRec) const override {
-        // One-sided: only the side the normal points to emits.
-        return lRec.n.dot(lRec.wi) < 0.0f ? Color3f(m_radiance->eval(lRec).max(0.0f))
-                                          : Color3f(0.0f);
+        // One-sided: only the side the normal points to emits; and only where the surface
+        // is (an alpha-masked light, decided per point as ray hits decide it).
+        if (lRec.n.dot(lRec.wi) >= 0.0f)
+            return Color3f(0.0f);
+        if (const SurfaceOpacity *opacity = m_shape->getOpacity())
+            if (!surfacePresent(opacity->opacityAt(lRec.uv, lRec.p), lRec.p))
+                return Color3f(0.0f);
+        return m_radiance->eval(lRec).max(0.0f);
     }
 
     float pdf(const EmitterQueryRecord &lRec) const override {

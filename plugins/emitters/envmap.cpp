@@ -5,7 +5,11 @@
  * (sin φ sin θ, cos θ, −cos φ sin θ) of the emitter's frame, +y is up and v = 0 is the
  * top row. Directions are importance-sampled from the piecewise-constant density
  * luminance × sin θ over texels (PBR 4th ed. §12.5.2), whose solid-angle density is
- * p(u, v)/(2π² sin θ); the radiance of a direction is its texel's (so that it matches
+ * p(u, v)/(2π² sin θ). With mapping "equalarea" the image is instead a square in
+ * Clarberg's equal-area octahedral map (pbrt-v4's environment maps; warp.h): u along the
+ * frame's +x, v (down the rows) along +y, +z up; every texel then covers the same solid
+ * angle 4π/(W·H), so the density is luminance alone and p(u, v)/4π per solid angle.
+ * The radiance of a direction is its texel's (so that it matches
  * that density exactly), except for camera rays and specular chains, which see a
  * trilinear MIP lookup over their ray differentials. Rays that leave the scene see it;
  * its power is that through the disk of the scene's bounding sphere.
@@ -15,12 +19,18 @@
  *   scale, strength  float  1         multiplies the radiance (strength: the name
  *                                     Blender and several course scenes use)
  *   toWorld   transform  identity     orientation of the map (rotations)
+ *   mapping   string     "latlong"    "latlong" or "equalarea" (a square image)
  *   sampling  string     "luminance"  "luminance" (importance sampling, above) or
  *                                     "uniform" (directions uniform over the sphere:
  *                                     only for comparisons, it is much noisier)
  *
  *   <emitter type="envmap">
  *       <string name="filename" value="scenes/textured/textures/sky.exr"/>
+ *   </emitter>
+ *
+ *   <emitter type="envmap">
+ *       <string name="filename" value="tests/data/envmaps/equalarea.pfm"/>
+ *       <string name="mapping" value="equalarea"/>
  *   </emitter>
  *
  *   <emitter type="environment">
@@ -55,7 +65,15 @@ public:
             throw NoriException("envmap: unknown sampling '{}' (use luminance or uniform)",
                                 sampling);
         m_uniform = sampling == "uniform";
+        const std::string mapping = props.getString("mapping", "latlong");
+        if (mapping != "latlong" && mapping != "equalarea")
+            throw NoriException("envmap: unknown mapping '{}' (use latlong or equalarea)", mapping);
+        m_equalArea = mapping == "equalarea";
         m_mipmap = loadTextureImage(m_filename, ColorSpace::Auto);
+        if (m_equalArea && m_mipmap->level(0).width() != m_mipmap->level(0).height())
+            throw NoriException("envmap: an equal-area map is square, but '{}' is {}x{}",
+                                m_filename, m_mipmap->level(0).width(),
+                                m_mipmap->level(0).height());
         buildDistribution();
     }
 
@@ -88,10 +106,16 @@ public:
                              (texel.y() + 0.5f) / float(image.height()));
         float sinTheta = 0.0f;
         for (float pull = 1e-6f;; pull *= 2.0f) {
-            const float theta = uv.y() * kPi, phi = uv.x() * 2.0f * kPi;
-            sinTheta = std::sin(theta);
-            const Vector3f local(std::sin(phi) * sinTheta, std::cos(theta),
-                                 -std::cos(phi) * sinTheta);
+            Vector3f local;
+            if (m_equalArea) {
+                local = Warp::squareToEqualAreaSphere(uv);
+                sinTheta = 1.0f; // (unused: the map's texels all cover the same solid angle)
+            } else {
+                const float theta = uv.y() * kPi, phi = uv.x() * 2.0f * kPi;
+                sinTheta = std::sin(theta);
+                local =
+                    Vector3f(std::sin(phi) * sinTheta, std::cos(theta), -std::cos(phi) * sinTheta);
+            }
             lRec.wi = Vector3f(m_toWorld * local).normalized();
             if (sinTheta > 0.0f && texelOf(toUV(lRec.wi)) == texel)
                 break;
@@ -99,7 +123,7 @@ public:
                 return Color3f(0.0f);
             uv += pull * (centre - uv);
         }
-        lRec.pdf = uvPdf / (2.0f * kPi * kPi * sinTheta);
+        lRec.pdf = m_equalArea ? uvPdf * kInvFourPi : uvPdf / (2.0f * kPi * kPi * sinTheta);
         m_scene.placeBeyond(lRec); // a point beyond the scene, for the shadow ray
         return eval(lRec) / lRec.pdf;
     }
@@ -125,19 +149,25 @@ public:
         const Point2f uv = toUV(lRec.wi);
         if (lRec.dwdx.isZero() && lRec.dwdy.isZero())
             return m_scale * m_mipmap->nearest(uv, MIPMap::Wrap::Repeat);
+        // (The equal-area square's edges meet mirrored, which no wrap mode follows: its
+        // filtered lookups clamp there.)
+        const MIPMap::Wrap wrap = m_equalArea ? MIPMap::Wrap::Clamp : MIPMap::Wrap::Repeat;
         // A filtered lookup over the footprint of the directions dw/dx, dw/dy (u wraps).
         auto difference = [&](const Vector3f &dw) {
             Vector2f d = toUV((lRec.wi + dw).normalized()) - uv;
-            d.x() -= std::round(d.x());
+            if (!m_equalArea)
+                d.x() -= std::round(d.x());
             return d;
         };
-        return m_scale * m_mipmap->trilinear(uv, difference(lRec.dwdx), difference(lRec.dwdy),
-                                             MIPMap::Wrap::Repeat);
+        return m_scale *
+               m_mipmap->trilinear(uv, difference(lRec.dwdx), difference(lRec.dwdy), wrap);
     }
 
     float pdf(const EmitterQueryRecord &lRec) const override {
         if (m_uniform)
             return Warp::squareToUniformSpherePdf(lRec.wi);
+        if (m_equalArea)
+            return m_distribution.pdf(toUV(lRec.wi)) * kInvFourPi;
         // sin θ from the horizontal components: accurate near the poles, where
         // √(1 − cos²θ) loses its digits.
         const Vector3f local = Vector3f(m_toLocal * lRec.wi).normalized();
@@ -153,8 +183,9 @@ public:
 
     std::string toString() const override {
         const Bitmap &image = m_mipmap->level(0);
-        return fmt::format("EnvironmentMap[filename=\"{}\", {}x{}, scale={}]", m_filename,
-                           image.width(), image.height(), m_scale);
+        return fmt::format("EnvironmentMap[filename=\"{}\", {}x{}, scale={}, mapping={}]",
+                           m_filename, image.width(), image.height(), m_scale,
+                           m_equalArea ? "equalarea" : "latlong");
     }
 
 private:
@@ -166,11 +197,13 @@ private:
         Color3f integral(0.0f);
         double total = 0.0;
         for (int y = 0; y < height; ++y) {
-            const float sinTheta = std::sin((y + 0.5f) * kPi / height);
             // The row's exact solid angle per texel is (2π/W)(cos θ₀ − cos θ₁); the midpoint
-            // rule's (2π/W)(π/H) sin θ overstates it (by 0.16% at H = 16).
+            // rule's (2π/W)(π/H) sin θ overstates it (by 0.16% at H = 16). An equal-area
+            // map's texels all cover (2π/W)·(2/H) = 4π/(W·H).
+            const float sinTheta = m_equalArea ? 1.0f : std::sin((y + 0.5f) * kPi / height);
             const float rowSolidAngle =
-                std::cos(y * kPi / height) - std::cos((y + 1) * kPi / height);
+                m_equalArea ? 2.0f / float(height)
+                            : std::cos(y * kPi / height) - std::cos((y + 1) * kPi / height);
             for (int x = 0; x < width; ++x) {
                 const Color3f value = image(y, x).max(0.0f);
                 const float weight = value.getLuminance() * sinTheta;
@@ -191,6 +224,11 @@ private:
     /// the poles (a float y within 6e-8 of 1 leaves θ uncertain by 3.5e-4).
     Point2f toUV(const Vector3f &world) const {
         const Vector3f local = Vector3f(m_toLocal * world).normalized();
+        if (m_equalArea) {
+            const Point2f uv = Warp::equalAreaSphereToSquare(local);
+            return Point2f(std::clamp(uv.x(), 0.0f, 1.0f - 1e-7f),
+                           std::clamp(uv.y(), 0.0f, 1.0f - 1e-7f));
+        }
         const float theta = std::atan2(std::hypot(local.x(), local.z()), local.y());
         float phi = std::atan2(local.x(), -local.z());
         if (phi < 0.0f)
@@ -210,7 +248,8 @@ private:
 
     std::string m_filename;
     float m_scale;
-    bool m_uniform; ///< sample directions uniformly instead of by luminance
+    bool m_uniform;   ///< sample directions uniformly instead of by luminance
+    bool m_equalArea; ///< a square equal-area map instead of a lat-long one
     Transform m_toWorld, m_toLocal;
     std::shared_ptr<const MIPMap> m_mipmap;
     Distribution2D m_distribution;

@@ -35,7 +35,7 @@ public:
         const bool faceNormals = props.getBoolean("faceNormals", false);
         const bool flip = props.getBoolean("flipNormals", false);
         readSurfaceParameters(*this, props);
-        PlyMesh mesh = readPLY(m_name);
+        MeshData mesh = readPLY(m_name);
         m_positions = std::move(mesh.positions);
         m_texCoords = std::move(mesh.texCoords);
         if (!faceNormals)

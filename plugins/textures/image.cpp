@@ -1,5 +1,5 @@
 /*
- * image — a texture read from a PNG, JPEG, Radiance HDR or OpenEXR file and filtered
+ * image — a texture read from a PNG, JPEG, TGA, Radiance HDR or OpenEXR file and filtered
  * over the lookup's footprint with a MIP map (pbrt-v3 §10.4): trilinear by default,
  * or EWA (Heckbert 1989). uv (0, 0) is the image's bottom-left corner, as in OBJ files.
  * One decoded pyramid is shared by every texture naming the same file and colour space.

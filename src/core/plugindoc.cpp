@@ -290,7 +290,15 @@ const std::vector<ParameterDoc> &commonParameters(NoriObject::EClassType type) {
          "1.96·σ/√n of its luminance is at most maxTolerance·μ, σ and μ measured on "
          "separate decision samples (a quarter as many) so the image stays unbiased (0: off)"},
         {{"minSamples"}, "integer", "16", "adaptive sampling: samples before a pixel may stop"}};
+    static const std::vector<ParameterDoc> shape = {
+        {{"alpha"},
+         "float/texture",
+         "1",
+         "opacity: below 1 the surface is partly absent (an alpha mask, a leaf's cut-out); "
+         "every ray passes through the holes"}};
     switch (type) {
+    case NoriObject::EMesh:
+        return shape;
     case NoriObject::EIntegrator:
         return integrator;
     case NoriObject::ESampler:

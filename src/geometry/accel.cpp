@@ -28,6 +28,7 @@ BoundingBox3f transformedBounds(const BoundingBox3f &box, const AffineMap &toWor
 void Accel::addShape(const Shape *shape) {
     m_shapes.push_back(shape);
     m_isMesh.push_back(dynamic_cast<const Mesh *>(shape) != nullptr);
+    m_hasOpacity = m_hasOpacity || shape->getOpacity() != nullptr;
 }
 
 void Accel::addInstance(const InstanceTarget *target, const AffineMap &toWorld) {
@@ -160,6 +161,12 @@ template <bool AnyHit> bool Accel::intersect(const Ray3f &ray, Hit &hit, int dep
             auto consider = [&](uint32_t slot, float t, const Point2f &coords) {
                 if (found && (t > tBest || (t == tBest && idOf(bestSlot) < idOf(slot))))
                     return false;
+                // An alpha-masked surface is absent at some points: the ray goes on.
+                if (m_hasOpacity) {
+                    const PrimitiveId id = idOf(slot);
+                    if (!m_shapes[id.shapeIndex]->presentAt(id.primIndex, ray, t, coords))
+                        return false;
+                }
                 found = hitInLeaf = true;
                 bestSlot = slot;
                 tBest = tLimit = t;

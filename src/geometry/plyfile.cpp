@@ -14,10 +14,6 @@ namespace nori {
 
 namespace {
 
-/// The largest file an inflated .ply.gz may become (a hostile stream cannot inflate past
-/// it): 16 GiB, beyond any mesh a 24 GiB machine renders.
-constexpr size_t kMaxInflatedSize = size_t(16) << 30;
-
 enum class Encoding { Ascii, BinaryLittle, BinaryBig };
 
 enum class ScalarType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
@@ -278,10 +274,10 @@ size_t minimumItemBytes(const Element &element, bool ascii) {
 
 } // namespace
 
-PlyMesh parsePLY(std::string_view bytes, const std::string &name) {
+MeshData parsePLY(std::string_view bytes, const std::string &name) {
     const Header header = parseHeader(bytes, name);
     BodyReader reader(bytes, header.bodyOffset, header.encoding, header.bodyLine, name);
-    PlyMesh mesh;
+    MeshData mesh;
     bool sawVertices = false, sawFaces = false;
     size_t vertexCount = 0;
     for (const Element &element : header.elements) {
@@ -403,14 +399,14 @@ PlyMesh parsePLY(std::string_view bytes, const std::string &name) {
     return mesh;
 }
 
-PlyMesh readPLY(const std::string &path) {
+MeshData readPLY(const std::string &path) {
     std::string bytes = readBinaryFile(path, "PLY mesh file");
     if (isGzip(bytes))
-        bytes = inflateBytes(bytes, CompressedFormat::Gzip, path, kMaxInflatedSize);
+        bytes = inflateBytes(bytes, CompressedFormat::Gzip, path, kMaxInflatedMeshBytes);
     return parsePLY(bytes, path);
 }
 
-void writePLY(const std::string &path, const PlyMesh &mesh) {
+void writePLY(const std::string &path, const MeshData &mesh) {
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment written by nori\n";
     header +=
         fmt::format("element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",

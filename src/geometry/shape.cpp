@@ -1,3 +1,4 @@
+#include <nori/hash.h>
 #include <nori/instance.h>
 #include <nori/proplist.h>
 #include <nori/rayerror.h>
@@ -46,6 +47,33 @@ void Shape::setInstancedHitInformation(uint32_t index, const Ray3f &ray, const P
     const float normalScale = 1.0f / worldNormal.norm();
     its.dndu = normalScale * toLocal.applyTransposeToNormal(its.dndu);
     its.dndv = normalScale * toLocal.applyTransposeToNormal(its.dndv);
+}
+
+bool surfacePresent(float alpha, const Point3f &p) {
+    if (alpha >= 1.0f)
+        return true;
+    if (!(alpha > 0.0f))
+        return false;
+    uint32_t bits[3];
+    std::memcpy(bits, p.data(), sizeof(bits));
+    // The top 24 bits of a 64-bit hash: a uniform float in [0, 1).
+    const float u = static_cast<float>(hashValues(bits[0], bits[1], bits[2]) >> 40) * 0x1p-24f;
+    return u < alpha;
+}
+
+void Shape::setOpacity(std::shared_ptr<const SurfaceOpacity> opacity) {
+    if (m_opacity)
+        throw NoriException("a shape takes only one alpha mask");
+    m_opacity = std::move(opacity);
+}
+
+bool Shape::presentAt(uint32_t index, const Ray3f &ray, float t, const Point2f &hitCoords) const {
+    if (!m_opacity)
+        return true;
+    Intersection its;
+    its.t = t;
+    setHitInformation(index, ray, hitCoords, its);
+    return surfacePresent(m_opacity->opacityAtHit(its), its.p);
 }
 
 void Shape::setBSDF(std::shared_ptr<BSDF> bsdf) {
@@ -142,6 +170,10 @@ void Shape::activate() {
                                 "each medium boundary its own mesh");
         m_tmeshes->build();
     }
+    if (m_opacity && hasMediumInterface())
+        throw NoriException("{} has an alpha mask and bounds a medium: a boundary with holes "
+                            "leaves the medium undefined",
+                            toString());
     if (!m_visible && m_emitter)
         throw NoriException("an invisible shape (visible = false) cannot carry an area light");
 }

@@ -1,5 +1,6 @@
 #include <nori/filesystem.h>
 #include <nori/imagefile.h>
+#include <nori/strutil.h>
 
 // Debian's stb_image, fuzzed, writes out of bounds on a JPEG whose Huffman counts sum
 // past 256, loops forever on a truncated run-length HDR scanline and trusts a 2 GB PNG
@@ -479,6 +480,152 @@ std::string exrTypeAttribute(const std::string &bytes) {
     return type;
 }
 
+// ---------------------------------------------------------------------------- TGA
+// Truevision TGA (the "Truevision TGA File Format Specification", version 2.0, 1989):
+// true-colour, grey and colour-mapped images, plain or run-length coded, 8 to 32 bits a
+// pixel, stored bottom-up unless the descriptor says otherwise. Every read is
+// bounds-checked; every run must fit the image.
+
+class TgaReader {
+public:
+    TgaReader(const std::string &bytes, const std::string &name) : m_bytes(bytes), m_name(name) {}
+
+    ImageFile decode(std::size_t maxPixels) {
+        const uint8_t idLength = next(), colorMapType = next(), imageType = next();
+        const int mapFirst = next16(), mapLength = next16(), mapEntryBits = next();
+        next16(); // x origin
+        next16(); // y origin
+        const int width = next16(), height = next16(), pixelBits = next(), descriptor = next();
+        const bool mapped = imageType == 1 || imageType == 9;
+        const bool grey = imageType == 3 || imageType == 11;
+        const bool runLength = imageType >= 9;
+        if (!(imageType == 1 || imageType == 2 || imageType == 3 || imageType == 9 ||
+              imageType == 10 || imageType == 11))
+            fail(fmt::format("unsupported image type {} (1-3 and 9-11: colour-mapped, true-colour, "
+                             "grey, plain or run-length coded)",
+                             imageType));
+        if (colorMapType > 1 || (mapped && colorMapType != 1))
+            fail(fmt::format("colour map type {} does not fit image type {}", colorMapType,
+                             imageType));
+        checkSize(width, height, maxPixels, m_name, "TGA");
+        if (mapped
+                ? pixelBits != 8 && pixelBits != 16
+                : (grey ? pixelBits != 8 && pixelBits != 16
+                        : pixelBits != 15 && pixelBits != 16 && pixelBits != 24 && pixelBits != 32))
+            fail(fmt::format("{} bits a pixel do not fit image type {}", pixelBits, imageType));
+        skip(idLength);
+        std::vector<Color3f> palette;
+        if (colorMapType == 1) {
+            if (mapEntryBits != 15 && mapEntryBits != 16 && mapEntryBits != 24 &&
+                mapEntryBits != 32)
+                fail(fmt::format("colour-map entries of {} bits", mapEntryBits));
+            palette.reserve(static_cast<std::size_t>(mapLength));
+            for (int i = 0; i < mapLength; ++i)
+                palette.push_back(readColor(mapEntryBits, false));
+        }
+        auto readPixel = [&]() -> Color3f {
+            if (!mapped)
+                return readColor(pixelBits, grey);
+            const int index = (pixelBits == 8 ? next() : next16()) - mapFirst;
+            if (index < 0 || index >= static_cast<int>(palette.size()))
+                fail(fmt::format("colour index {} outside the map of {} entries", index + mapFirst,
+                                 palette.size()));
+            return palette[static_cast<std::size_t>(index)];
+        };
+        ImageFile image{Bitmap(Eigen::Vector2i(width, height)), true};
+        const std::size_t count =
+            static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+        std::size_t written = 0;
+        auto store = [&](const Color3f &color) {
+            // Rows run bottom-up unless bit 5 of the descriptor is set, right to left if bit 4.
+            const std::size_t row = written / static_cast<std::size_t>(width);
+            const std::size_t column = written % static_cast<std::size_t>(width);
+            const int y =
+                (descriptor & 0x20) ? static_cast<int>(row) : height - 1 - static_cast<int>(row);
+            const int x = (descriptor & 0x10) ? width - 1 - static_cast<int>(column)
+                                              : static_cast<int>(column);
+            image.pixels.coeffRef(y, x) = color;
+            ++written;
+        };
+        while (written < count) {
+            if (!runLength) {
+                store(readPixel());
+                continue;
+            }
+            const uint8_t packet = next();
+            const std::size_t length = (packet & 0x7f) + 1u;
+            if (written + length > count)
+                fail("a run-length packet runs past the end of the image");
+            if (packet & 0x80) {
+                const Color3f color = readPixel();
+                for (std::size_t i = 0; i < length; ++i)
+                    store(color);
+            } else {
+                for (std::size_t i = 0; i < length; ++i)
+                    store(readPixel());
+            }
+        }
+        return image;
+    }
+
+private:
+    [[noreturn]] void fail(const std::string &what) const {
+        throw NoriException("TGA image '{}' is invalid: {} (at byte {})", m_name, what, m_offset);
+    }
+    uint8_t next() {
+        if (m_offset >= m_bytes.size())
+            fail("the file ends early (truncated)");
+        return static_cast<uint8_t>(m_bytes[m_offset++]);
+    }
+    int next16() {
+        const int low = next();
+        return low | (next() << 8);
+    }
+    void skip(std::size_t count) {
+        if (count > m_bytes.size() - m_offset)
+            fail("the file ends early (truncated)");
+        m_offset += count;
+    }
+    /// A stored colour: BGR(A) bytes, 5-5-5 bits (A RRRRR GGGGG BBBBB, little-endian), or
+    /// grey; 16-bit grey is an 8-bit value and its alpha. Alpha is dropped.
+    Color3f readColor(int bits, bool grey) {
+        if (grey) {
+            const float value = static_cast<float>(next()) / 255.0f;
+            if (bits == 16)
+                next();
+            return Color3f(value);
+        }
+        if (bits == 15 || bits == 16) {
+            const int packed = next16();
+            return Color3f(static_cast<float>((packed >> 10) & 31) / 31.0f,
+                           static_cast<float>((packed >> 5) & 31) / 31.0f,
+                           static_cast<float>(packed & 31) / 31.0f);
+        }
+        const float b = static_cast<float>(next()) / 255.0f,
+                    g = static_cast<float>(next()) / 255.0f,
+                    r = static_cast<float>(next()) / 255.0f;
+        if (bits == 32)
+            next();
+        return Color3f(r, g, b);
+    }
+
+    const std::string &m_bytes;
+    const std::string &m_name;
+    std::size_t m_offset = 0;
+};
+
+/// Whether a file is a TGA: it has no signature at its start, so by its name, or by the
+/// footer of version 2.0 files.
+bool isTga(const std::string &bytes, const std::string &name) {
+    const std::string lower = toLower(name);
+    if (lower.size() >= 4 && lower.compare(lower.size() - 4, 4, ".tga") == 0)
+        return true;
+    static const char kFooter[] = "TRUEVISION-XFILE.";
+    const std::size_t footerLength = sizeof(kFooter); // with its NUL
+    return bytes.size() >= 26 + 18 &&
+           std::memcmp(bytes.data() + bytes.size() - footerLength, kFooter, footerLength) == 0;
+}
+
 } // namespace
 
 LayeredImage decodeLayeredEXR(const std::string &bytes, const std::string &name,
@@ -576,8 +723,10 @@ ImageFile decodeImageFile(const std::string &bytes, const std::string &name,
         return HdrReader(bytes, name).decode(maxPixels);
     if (startsWith(bytes, "PF", 2) || startsWith(bytes, "Pf", 2))
         return decodePfm(bytes, name, maxPixels);
-    throw NoriException("'{}' is not a PNG, JPEG, Radiance HDR, OpenEXR or PFM image (unknown "
-                        "signature)",
+    if (isTga(bytes, name))
+        return TgaReader(bytes, name).decode(maxPixels);
+    throw NoriException("'{}' is not a PNG, JPEG, Radiance HDR, OpenEXR, PFM or TGA image "
+                        "(unknown signature)",
                         name);
 }
 

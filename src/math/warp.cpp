@@ -141,6 +141,43 @@ NORI_REPLACEABLE float Warp::squareToUniformSpherePdf(const Vector3f &v) {
     return isUnit(v) ? kInvFourPi : 0.0f;
 }
 
+Vector3f Warp::squareToEqualAreaSphere(const Point2f &sample) {
+    // To [−1, 1]²; r is the distance from the square's rim along the diagonals (1 on the
+    // inner diamond's edge, the equator), φ the angle within the quadrant.
+    const float u = 2.0f * sample.x() - 1.0f, v = 2.0f * sample.y() - 1.0f;
+    const float up = std::abs(u), vp = std::abs(v);
+    const float signedDistance = 1.0f - (up + vp);
+    const float r = 1.0f - std::abs(signedDistance);
+    const float phi = (r == 0.0f ? 1.0f : (vp - up) / r + 1.0f) * kPi / 4.0f;
+    // Equal area: the diamond of "radius" r holds the cap of height r², z = ±(1 − r²).
+    const float z = std::copysign(1.0f - r * r, signedDistance);
+    const float scale = r * std::sqrt(std::max(0.0f, 2.0f - r * r));
+    return Vector3f(std::copysign(std::cos(phi), u) * scale,
+                    std::copysign(std::sin(phi), v) * scale, z);
+}
+
+float Warp::squareToEqualAreaSpherePdf(const Vector3f &v) {
+    return isUnit(v) ? kInvFourPi : 0.0f;
+}
+
+Point2f Warp::equalAreaSphereToSquare(const Vector3f &d) {
+    // The forward map backwards: r = √(1 − |z|), and within the quadrant the angle φ of
+    // (|x|, |y|) splits r into u' = r(1 − 2φ/π) and v' = r·2φ/π.
+    const float x = std::abs(d.x()), y = std::abs(d.y()), z = std::abs(d.z());
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z));
+    const float phi = std::atan2(y, x) * (2.0f / kPi); // in [0, 1]
+    float v = phi * r, u = r - v;
+    if (d.z() < 0.0f) {
+        // The southern hemisphere lies in the corners: mirror across the diagonal.
+        std::swap(u, v);
+        u = 1.0f - u;
+        v = 1.0f - v;
+    }
+    u = std::copysign(u, d.x());
+    v = std::copysign(v, d.y());
+    return Point2f(0.5f * (u + 1.0f), 0.5f * (v + 1.0f));
+}
+
 NORI_REPLACEABLE Vector3f Warp::squareToUniformHemisphere(const Point2f &sample) {
     return sphericalDirection(sample.x(), 2.0f * kPi * sample.y());
 }

@@ -123,9 +123,37 @@ bool SurfaceShading::usesFootprint() const {
     return m_bumpMap || (m_normalMap && m_normalMap->usesFootprint());
 }
 
+AlphaMask::AlphaMask(std::shared_ptr<const Texture> opacity, const Shape &shape)
+    : m_opacity(std::move(opacity)), m_shape(shape) {}
+
+float AlphaMask::opacityAtHit(const Intersection &its) const {
+    return opacityAt(textureUV(m_shape, its.uv), its.p);
+}
+
+float AlphaMask::opacityAt(const Point2f &textureUV, const Point3f &p) const {
+    TextureQuery q(textureUV);
+    q.p = p;
+    return m_opacity->evalFloat(q);
+}
+
 void readSurfaceParameters(Shape &shape, const PropertyList &props) {
     shape.setVisible(props.getBoolean("visible", true));
     shape.setSurfaceShading(SurfaceShading::read(props));
+    if (props.holdsObject("alpha")) {
+        auto texture = std::dynamic_pointer_cast<const Texture>(props.getObject("alpha"));
+        if (!texture)
+            throw NoriException("'alpha' must be a float or a <texture name=\"alpha\">");
+        // An opacity is data: 8-bit images are not sRGB-decoded.
+        auto linear = texture->linearVariant();
+        shape.setOpacity(std::make_shared<AlphaMask>(linear ? linear : texture, shape));
+    } else if (props.has("alpha")) {
+        const float alpha = props.getFloat("alpha");
+        if (!(alpha >= 0.0f && alpha <= 1.0f))
+            throw NoriException("'alpha' must lie in [0, 1], got {}", alpha);
+        if (alpha < 1.0f)
+            shape.setOpacity(
+                std::make_shared<AlphaMask>(makeConstantTexture(Color3f(alpha)), shape));
+    }
 }
 
 void completeHit(const Ray3f &ray, Intersection &its) {

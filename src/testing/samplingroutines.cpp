@@ -76,6 +76,10 @@ const std::vector<NamedWarp> &namedWarps() {
          [](float) {
              return spherical(Warp::squareToUniformSphere, Warp::squareToUniformSpherePdf);
          }},
+        {"equal_area_sphere", "", 0.0f,
+         [](float) {
+             return spherical(Warp::squareToEqualAreaSphere, Warp::squareToEqualAreaSpherePdf);
+         }},
         {"uniform_hemisphere", "", 0.0f,
          [](float) {
              return spherical(Warp::squareToUniformHemisphere, Warp::squareToUniformHemispherePdf);

@@ -1,0 +1,135 @@
+// Alpha masks (a shape's `alpha`, Mitsuba's `mask`): a quad between a floor and a light
+// transmits the fraction of it that is absent, for every integrator, with no bias; two
+// masks in a row transmit the product; the masked-out parts of a light do not shine.
+#include "testutil.h"
+
+#include <nori/parser.h>
+#include <nori/scene.h>
+#include <nori/shape.h>
+
+#include <catch2/catch.hpp>
+
+using namespace nori;
+using namespace nori::testing;
+
+namespace {
+
+/// A black sphere light of radiance 100 and radius 0.1 at height 3 above litFloor's
+/// target, and `occluders` between them.
+std::string lightAbove(const std::string &occluders) {
+    return R"(<mesh type="sphere"><point name="center" value="0, 3, 0"/>
+        <float name="radius" value="0.1"/><bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+        <emitter type="area"><color name="radiance" value="100"/></emitter></mesh>)" +
+           occluders;
+}
+
+/// A black horizontal square of side 0.8 at height y, facing down, with opacity `alpha`
+/// (the XML of a float or of a texture named alpha): it covers the rays from the floor's
+/// target to the light, not those of the camera (which pass above y = 1 at |z| ≥ 0.5).
+std::string quadAt(float y, const std::string &alpha) {
+    return fmt::format(R"(<mesh type="rectangle"><transform name="toWorld"><scale value="0.4"/>
+        <rotate axis="1, 0, 0" angle="90"/><translate value="0, {}, 0"/></transform>{}
+        <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf></mesh>)",
+                       y, alpha);
+}
+
+/// The floor's radiance with nothing in the way: ρ/π · E, E = π L (r/d)² for a sphere of
+/// radius r seen straight up at distance d (its irradiance, PBR 4th ed. §4.5.1).
+constexpr double kUnoccluded = 0.5 * 100.0 * (0.1 / 3.0) * (0.1 / 3.0);
+
+const char *const kIntegrators[] = {"path_mis",   "path_ems", "path_mats",
+                                    "direct_mis", "volpath",  "bdpt"};
+
+} // namespace
+
+TEST_CASE("A quad of opacity 0.35 transmits 65 % of the light, for every integrator",
+          "[alpha][ttest]") {
+    const std::string scene = lightAbove(quadAt(1.5f, R"(<float name="alpha" value="0.35"/>)"));
+    for (const char *integrator : kIntegrators) {
+        const auto test = tTestPixel(*litFloor(integrator, scene), 0.65 * kUnoccluded, 20000);
+        INFO(integrator << ": " << test.summary());
+        CHECK(test.result.passed);
+    }
+    // Negative controls: the quad opaque, or absent, is told apart.
+    for (const char *alpha :
+         {R"(<float name="alpha" value="1"/>)", R"(<float name="alpha" value="0"/>)"}) {
+        const auto test = tTestPixel(*litFloor("path_mis", lightAbove(quadAt(1.5f, alpha))),
+                                     0.65 * kUnoccluded, 20000);
+        INFO(alpha << ": " << test.summary());
+        CHECK_FALSE(test.result.passed);
+    }
+}
+
+TEST_CASE("Two masks in a row transmit the product of what each lets through", "[alpha][ttest]") {
+    // Each surface is decided on its own: a mask test shared along a ray (one random
+    // number per ray, as a hash of the ray alone would give) would let 50 % through.
+    const std::string scene = lightAbove(quadAt(1.2f, R"(<float name="alpha" value="0.5"/>)") +
+                                         quadAt(1.8f, R"(<float name="alpha" value="0.5"/>)"));
+    for (const char *integrator : {"path_mis", "path_mats", "bdpt"}) {
+        const auto test = tTestPixel(*litFloor(integrator, scene), 0.25 * kUnoccluded, 20000);
+        INFO(integrator << ": " << test.summary());
+        CHECK(test.result.passed);
+    }
+    const auto correlated = tTestPixel(*litFloor("path_mis", scene), 0.5 * kUnoccluded, 20000);
+    INFO("against 50 %: " << correlated.summary());
+    CHECK_FALSE(correlated.result.passed);
+}
+
+TEST_CASE("A checkerboard cut-out casts a shadow of the mask's mean, through `mask` too",
+          "[alpha][ttest]") {
+    // Cells of 0.0016 (500 across the quad's uv): the rays from the floor point to the
+    // light cross the quad over a disk of radius 0.05, some 3,000 cells, half of them holes.
+    const std::string checker = R"(<texture type="checkerboard" name="alpha">
+        <color name="color0" value="0"/><color name="color1" value="1"/>
+        <float name="scale" value="500"/></texture>)";
+    const std::string masked = lightAbove(quadAt(1.5f, checker));
+    std::string viaMask = masked;
+    viaMask.replace(viaMask.find(checker), checker.size(), "");
+    const std::string maskBSDF = R"(<bsdf type="mask"><texture type="checkerboard" name="opacity">
+        <color name="color0" value="0"/><color name="color1" value="1"/>
+        <float name="scale" value="500"/></texture>
+        <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf></bsdf>)";
+    const std::string blackBSDF =
+        R"(<bsdf type="diffuse"><color name="albedo" value="0"/></bsdf></mesh>)";
+    const size_t quad = viaMask.rfind(blackBSDF);
+    REQUIRE(quad != std::string::npos);
+    viaMask.replace(quad, blackBSDF.size(), maskBSDF + "</mesh>");
+    for (const std::string &scene : {masked, viaMask})
+        for (const char *integrator : {"path_mis", "path_mats", "bdpt"}) {
+            const auto test = tTestPixel(*litFloor(integrator, scene), 0.5 * kUnoccluded, 20000);
+            INFO(integrator << ": " << test.summary());
+            CHECK(test.result.passed);
+        }
+}
+
+TEST_CASE("The masked-out parts of a light do not shine, seen or sampled", "[alpha][ttest]") {
+    // A light of opacity 0.4: the floor receives 40 % of what the whole light sends, by
+    // light sampling (path_ems), by hitting it (path_mats) and by both.
+    const std::string light = R"(<mesh type="sphere"><point name="center" value="0, 3, 0"/>
+        <float name="radius" value="0.1"/><float name="alpha" value="0.4"/>
+        <bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+        <emitter type="area"><color name="radiance" value="100"/></emitter></mesh>)";
+    for (const char *integrator : {"path_mis", "path_ems", "path_mats"}) {
+        const auto test = tTestPixel(*litFloor(integrator, light), 0.4 * kUnoccluded, 20000);
+        INFO(integrator << ": " << test.summary());
+        CHECK(test.result.passed);
+    }
+}
+
+TEST_CASE("Alpha is checked: a number in [0, 1] or a texture, not on a medium boundary",
+          "[alpha][errors]") {
+    CHECK_THAT(errorOf([] {
+                   loadFromXMLString(
+                       R"(<mesh type="cube"><float name="alpha" value="1.5"/></mesh>)");
+               }),
+               Catch::Contains("'alpha' must lie in [0, 1], got 1.5"));
+    CHECK_THAT(errorOf([] {
+                   loadFromXMLString(R"(<mesh type="cube"><float name="alpha" value="0.5"/>
+                       <medium type="homogeneous" name="interior"/></mesh>)");
+               }),
+               Catch::Contains("alpha mask and bounds a medium"));
+    const auto opaque = std::dynamic_pointer_cast<Shape>(
+        loadFromXMLString(R"(<mesh type="cube"><float name="alpha" value="1"/></mesh>)"));
+    REQUIRE(opaque);
+    CHECK(opaque->getOpacity() == nullptr); // the fast path
+}
