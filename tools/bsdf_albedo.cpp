@@ -1,7 +1,7 @@
 // The albedo table of BSDFs: ∫ f(wi, wo) |cos θo| dωo for wi at a few angles, each the
 // mean weight of 10⁶ samples with its standard error (fixed seed), for the figures of
-// docs/design/figures.md. Usage: nori-bsdf-albedo ['<bsdf .../>' ...]; without
-// arguments, the plastics of issue 72 (smooth and rough, Mitsuba's defaults and a few).
+// docs/materials.md. Usage: nori-bsdf-albedo ['<bsdf .../>' ...]; without arguments, the
+// plastics and coated diffuse BSDFs of issue 72 (their defaults and a few more).
 #include <nori/bsdf.h>
 #include <nori/parser.h>
 #include <nori/pcg32.h>
@@ -24,6 +24,10 @@ int main(int argc, char **argv) {
             R"(<bsdf type="roughplastic"><float name="alpha" value="0.4"/></bsdf>)",
             R"(<bsdf type="roughplastic"><string name="distribution" value="ggx"/>
                 <float name="alpha" value="0.4"/></bsdf>)",
+            R"(<bsdf type="coateddiffuse"/>)",
+            R"(<bsdf type="coateddiffuse"><float name="roughness" value="0.1"/></bsdf>)",
+            R"(<bsdf type="coateddiffuse"><float name="roughness" value="0.1"/>
+                <color name="albedo" value="0.8"/><float name="thickness" value="0.1"/></bsdf>)",
         };
     constexpr int kSamples = 1000000;
     const float angles[] = {0.0f, 45.0f, 80.0f};

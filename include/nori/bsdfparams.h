@@ -3,7 +3,10 @@
 // refraction. The maths they feed lives in microfacet.h and fresnel.h.
 #pragma once
 
+#include <nori/bsdf.h>
 #include <nori/fresnel.h>
+#include <nori/hash.h>
+#include <nori/layeredbsdf.h>
 #include <nori/microfacet.h>
 #include <nori/texture.h>
 
@@ -55,5 +58,47 @@ ConductorIOR readConductorIOR(const PropertyList &props, const std::string &plug
 /// names the BSDF in errors, which also refuse a non-positive index.
 float readIOR(const PropertyList &props, const std::string &name, float defaultValue,
               const std::string &plugin);
+
+/// The roughness of one interface of a layered BSDF (pbrt-v4's `roughness`, `uroughness`,
+/// `vroughness` and `remaproughness`), its names under a prefix: "" gives roughness,
+/// uRoughness, vRoughness; "interface" gives interfaceRoughness, interfaceURoughness, ...
+class LayerRoughness {
+public:
+    LayerRoughness(const PropertyList &props, TextureParameters &textures,
+                   const std::string &plugin, const std::string &prefix);
+    /// The interface's microfacets at q: α = √r when remapped (pbrt-v4's RoughnessToAlpha).
+    layered::Microfacets at(const TextureQuery &q) const;
+    /// Whether the interface is smooth everywhere (constant roughness below the threshold).
+    bool alwaysSmooth() const;
+    std::string toString() const;
+
+private:
+    float alpha(float roughness) const {
+        return m_remap ? std::sqrt(std::max(roughness, 0.0f)) : std::max(roughness, 0.0f);
+    }
+    std::shared_ptr<const Texture> m_u, m_v;
+    bool m_remap;
+};
+
+/// Reads the random walk of a layered BSDF: thickness, albedo, g, maxDepth, nSamples.
+layered::WalkParameters readWalkParameters(const PropertyList &props, const std::string &plugin);
+std::string walkToString(const layered::WalkParameters &walk);
+
+/// sample() of a coated BSDF plugin: one walk of `bsdf` for bRec.wi, with weight f·|cos|/pdf
+/// of the walk. The first interface's lobe choice takes a number hashed from the sample
+/// (the two dimensions choose its microfacet). The coating's mirror reflection, and every
+/// sample of a BSDF without a smooth part, is discrete.
+template <typename Base>
+Color3f sampleCoatedBSDF(const layered::CoatedBSDF<Base> &bsdf, BSDFQueryRecord &bRec,
+                         const Point2f &sample, bool smoothPart) {
+    const float uc = hashToUnitFloat(hashFloats(sample.x(), sample.y()));
+    const layered::Sample s = bsdf.sample(bRec.wi, uc, sample, layered::Transport::Radiance);
+    if (!s.valid())
+        return Color3f(0.0f);
+    bRec.wo = s.wi;
+    bRec.eta = 1.0f;
+    bRec.measure = s.specular || !smoothPart ? EDiscrete : ESolidAngle;
+    return s.f * (std::abs(s.wi.z()) / s.pdf);
+}
 
 } // namespace nori

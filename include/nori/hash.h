@@ -29,6 +29,22 @@ template <typename... Values> constexpr uint64_t hashValues(Values... values) {
     return hashMore(0x9e3779b97f4a7c15ULL, values...);
 }
 
+/// Hashes floats by their bit patterns (so that +0 and −0 differ, as the points they are
+/// coordinates of may).
+template <typename... Floats> uint64_t hashFloats(Floats... values) {
+    auto bitsOf = [](float value) {
+        uint32_t bits;
+        std::memcpy(&bits, &value, sizeof(bits));
+        return bits;
+    };
+    return hashValues(bitsOf(values)...);
+}
+
+/// The top 24 bits of a hash as a float uniform in [0, 1).
+constexpr float hashToUnitFloat(uint64_t hash) {
+    return static_cast<float>(hash >> 40) * 0x1p-24f;
+}
+
 /// A 64-bit digest of a byte string, 8 bytes at a time through mixBits (with the length
 /// folded in, so a trailing zero byte changes it). Not cryptographic: it tells files apart
 /// (a render split over machines checks they read the same scene), it does not resist

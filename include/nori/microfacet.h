@@ -33,6 +33,10 @@ public:
     /// Smith's monodirectional shadowing G1(v, m) (Walter eq. 27 for Beckmann, 34 for GGX),
     /// with the roughness of the stretched distribution in v's azimuth (Heitz 2014, eq. 80).
     float G1(const Vector3f &v, const Vector3f &m) const;
+    /// Smith's Λ(v), the ratio of a direction's masked to its visible projected microfacet
+    /// area, on either side (Heitz 2014, eq. 86 for GGX, (√(1 + α² tan²θ) − 1)/2; for
+    /// Beckmann, Walter et al.'s rational fit of its erf form). G1 = 1/(1 + Λ).
+    float lambda(const Vector3f &v) const;
     /// G(wi, wo, m) = G1(wi, m) G1(wo, m).
     float G(const Vector3f &wi, const Vector3f &wo, const Vector3f &m) const {
         return G1(wi, m) * G1(wo, m);

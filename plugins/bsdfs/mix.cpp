@@ -19,8 +19,6 @@
 #include <nori/bsdf.h>
 #include <nori/hash.h>
 
-#include <cstring>
-
 namespace nori {
 namespace {
 
@@ -69,10 +67,7 @@ private:
             return *m_bsdfs[0];
         if (amount >= 1.0f)
             return *m_bsdfs[1];
-        uint32_t bits[3];
-        std::memcpy(bits, bRec.p.data(), sizeof(bits));
-        const uint64_t hash = hashValues(bits[0], bits[1], bits[2]);
-        const float u = static_cast<float>(hash >> 40) * 0x1p-24f;
+        const float u = hashToUnitFloat(hashFloats(bRec.p.x(), bRec.p.y(), bRec.p.z()));
         return amount < u ? *m_bsdfs[0] : *m_bsdfs[1];
     }
 

@@ -54,11 +54,7 @@ bool surfacePresent(float alpha, const Point3f &p) {
         return true;
     if (!(alpha > 0.0f))
         return false;
-    uint32_t bits[3];
-    std::memcpy(bits, p.data(), sizeof(bits));
-    // The top 24 bits of a 64-bit hash: a uniform float in [0, 1).
-    const float u = static_cast<float>(hashValues(bits[0], bits[1], bits[2]) >> 40) * 0x1p-24f;
-    return u < alpha;
+    return hashToUnitFloat(hashFloats(p.x(), p.y(), p.z())) < alpha;
 }
 
 void Shape::setOpacity(std::shared_ptr<const SurfaceOpacity> opacity) {

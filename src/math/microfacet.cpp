@@ -31,6 +31,20 @@ float MicrofacetDistribution::projectedRoughness2Tan2(const Vector3f &v) const {
     return (x * x + y * y) / (v.z() * v.z());
 }
 
+float MicrofacetDistribution::lambda(const Vector3f &v) const {
+    const float a2Tan2 = projectedRoughness2Tan2(v);
+    if (!(a2Tan2 > 0.0f))
+        return 0.0f;
+    if (std::isinf(a2Tan2))
+        return kInfinity;
+    if (m_type == Type::GGX)
+        return 0.5f * (std::sqrt(1.0f + a2Tan2) - 1.0f);
+    const float a = 1.0f / std::sqrt(a2Tan2);
+    if (a >= 1.6f)
+        return 0.0f;
+    return (1.0f - 1.259f * a + 0.396f * a * a) / (3.535f * a + 2.181f * a * a);
+}
+
 float MicrofacetDistribution::G1(const Vector3f &v, const Vector3f &m) const {
     // No shadowing from the back of a microfacet (Walter eq. 7's χ⁺ term).
     if (v.dot(m) * v.z() <= 0.0f)

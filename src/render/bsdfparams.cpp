@@ -60,4 +60,61 @@ Color3f ConductorIOR::fresnel(const TextureQuery &q, float cosThetaI) const {
     return fresnelConductor(cosThetaI, etaHere, kHere);
 }
 
+LayerRoughness::LayerRoughness(const PropertyList &props, TextureParameters &textures,
+                               const std::string &plugin, const std::string &prefix) {
+    auto name = [&](const char *plain, const char *prefixed) {
+        return prefix.empty() ? std::string(plain) : prefix + prefixed;
+    };
+    const std::string both = name("roughness", "Roughness");
+    const auto roughness = textures.scalar(props, both, 0.0f, 0.0f);
+    m_u = props.has(name("uRoughness", "URoughness"))
+              ? textures.scalar(props, name("uRoughness", "URoughness"), 0.0f, 0.0f)
+              : roughness;
+    m_v = props.has(name("vRoughness", "VRoughness"))
+              ? textures.scalar(props, name("vRoughness", "VRoughness"), 0.0f, 0.0f)
+              : roughness;
+    m_remap = props.getBoolean("remapRoughness", true);
+    (void)plugin;
+}
+
+layered::Microfacets LayerRoughness::at(const TextureQuery &q) const {
+    return {alpha(m_u->evalFloat(q)), alpha(m_v->evalFloat(q))};
+}
+
+bool LayerRoughness::alwaysSmooth() const {
+    return m_u->isConstant() && m_v->isConstant() &&
+           layered::Microfacets(alpha(m_u->average().x()), alpha(m_v->average().x())).smooth();
+}
+
+std::string LayerRoughness::toString() const {
+    return fmt::format("roughness=({}, {}), remapRoughness={}", m_u->toString(), m_v->toString(),
+                       m_remap);
+}
+
+layered::WalkParameters readWalkParameters(const PropertyList &props, const std::string &plugin) {
+    layered::WalkParameters walk;
+    walk.thickness = props.getFloat("thickness", 0.01f);
+    walk.albedo = props.getColor("albedo", Color3f(0.0f));
+    walk.g = props.getFloat("g", 0.0f);
+    walk.maxDepth = props.getInteger("maxDepth", 10);
+    walk.samples = props.getInteger("nSamples", 1);
+    if (!(walk.thickness > 0.0f) || !std::isfinite(walk.thickness))
+        throw NoriException("{}: 'thickness' must be positive, got {}", plugin, walk.thickness);
+    if ((walk.albedo < 0.0f).any() || (walk.albedo > 1.0f).any())
+        throw NoriException("{}: 'albedo' must lie in [0, 1]", plugin);
+    if (!(walk.g > -1.0f && walk.g < 1.0f))
+        throw NoriException("{}: 'g' must lie in (-1, 1), got {}", plugin, walk.g);
+    if (walk.maxDepth < 1 || walk.maxDepth > 1000)
+        throw NoriException("{}: 'maxDepth' must lie in [1, 1000], got {}", plugin, walk.maxDepth);
+    if (walk.samples < 1 || walk.samples > 1000)
+        throw NoriException("{}: 'nSamples' must lie in [1, 1000], got {}", plugin, walk.samples);
+    return walk;
+}
+
+std::string walkToString(const layered::WalkParameters &walk) {
+    return fmt::format("thickness={}, albedo=({}, {}, {}), g={}, maxDepth={}, nSamples={}",
+                       walk.thickness, walk.albedo.r(), walk.albedo.g(), walk.albedo.b(), walk.g,
+                       walk.maxDepth, walk.samples);
+}
+
 } // namespace nori

@@ -333,9 +333,10 @@ AgreementScene deltaLights() {
 }
 
 /// The shapes and materials of real scenes (issue 72): a rectangle, a disk and a cylinder
-/// as lights over a floor, a plastic and a rough plastic sphere and a two-sided diffuse
+/// as lights over a floor, a plastic, a rough plastic and two coated spheres and a diffuse
 /// transmitter, so that the new shapes' light sampling (path_ems) agrees with BSDF sampling
-/// hitting them (path_mats).
+/// hitting them (path_mats), and the coated BSDFs' estimated eval() (light sampling) with
+/// their sampled walks (BSDF sampling).
 AgreementScene shapeLights() {
     AgreementScene scene;
     scene.name = "shape-lights";
@@ -359,7 +360,13 @@ AgreementScene shapeLights() {
             <float name="alpha" value="0.15"/><color name="diffuseReflectance" value="0.7, 0.5, 0.2"/></bsdf>)") +
                  R"(<mesh type="rectangle"><transform name="toWorld"><scale value="0.4"/>
                <rotate axis="0, 1, 0" angle="20"/><translate value="0, 0.5, -1.2"/></transform>
-               <bsdf type="diffusetransmission"/></mesh>)";
+               <bsdf type="diffusetransmission"/></mesh>)" +
+                 sphere("0, 0.25, 0.7", 0.25f, R"(<bsdf type="coatedconductor">
+            <float name="interfaceRoughness" value="0.02"/><float name="conductorRoughness" value="0.1"/>
+            <string name="material" value="Au"/></bsdf>)") +
+                 sphere("-1.3, 0.3, 0.5", 0.3f,
+                        R"(<bsdf type="coateddiffuse"><float name="roughness" value="0.05"/>
+            <color name="reflectance" value="0.2, 0.5, 0.3"/></bsdf>)");
     scene.regions = {{"floor", 0, 24, 32, 8}, {"spheres", 6, 10, 20, 10}};
     scene.estimators = {pathTracer("path_mis", 512), pathTracer("path_ems", 512),
                         pathTracer("path_mats", 2048)};
