@@ -10,6 +10,7 @@
 #include <nori/fresnel.h>
 #include <nori/parser.h>
 #include <nori/pcg32.h>
+#include <nori/render.h>
 #include <nori/samplingroutines.h>
 
 #include <catch2/catch.hpp>
@@ -269,4 +270,40 @@ TEST_CASE("mix chooses its second BSDF at a fraction `amount` of the points",
     const double sigma = std::sqrt(kPoints * 0.3 * 0.7);
     INFO(second << " of " << kPoints);
     CHECK(std::abs(second - 0.3 * kPoints) <= 4.0 * sigma);
+}
+
+TEST_CASE("Mitsuba's bumpmap gives its shape the bump map the shape's own `bump` would",
+          "[materials][bumpmap]") {
+    const std::string heights =
+        R"(<texture type="checkerboard" name="{}"><float name="scale" value="6"/>
+        <color name="color0" value="0"/><color name="color1" value="0.02"/></texture>)";
+    auto render = [&](const std::string &quad) {
+        const auto scene = loadScene(R"(<scene><integrator type="path_mis"/>
+            <sampler type="independent"><integer name="sampleCount" value="4"/></sampler>
+            <camera type="perspective"><transform name="toWorld">
+                <lookat origin="0, 1, 3" target="0, 0, 0" up="0, 1, 0"/></transform>
+                <float name="fov" value="45"/><integer name="width" value="24"/>
+                <integer name="height" value="24"/></camera>
+            <emitter type="point"><point name="position" value="1, 2, 1"/>
+                <color name="power" value="40"/></emitter>)" +
+                                     quad + "</scene>");
+        return renderScene(*scene, quietOptions(2)).image;
+    };
+    const std::string place =
+        R"(<transform name="toWorld"><rotate axis="1, 0, 0" angle="-90"/></transform>
+        <float name="uvScale" value="2"/>)";
+    const Bitmap own = render(R"(<mesh type="rectangle">)" + place + fmt::format(heights, "bump") +
+                              R"(<bsdf type="roughconductor"/></mesh>)");
+    const Bitmap wrapped =
+        render(R"(<mesh type="rectangle">)" + place + R"(<bsdf type="bumpmap">)" +
+               fmt::format(heights, "height") + R"(<bsdf type="roughconductor"/></bsdf></mesh>)");
+    const Bitmap flat =
+        render(R"(<mesh type="rectangle">)" + place + R"(<bsdf type="roughconductor"/></mesh>)");
+    CHECK(identicalImages(own, wrapped));
+    CHECK_FALSE(identicalImages(own, flat));
+    CHECK_THAT(errorOf([] {
+                   loadFromXMLString(R"(<mesh type="rectangle"><bsdf type="bumpmap">
+                       <bsdf type="diffuse"/></bsdf></mesh>)");
+               }),
+               Catch::Contains("bumpmap: needs a height texture"));
 }

@@ -20,6 +20,11 @@ public:
     /// Reads `uvScale` (a float or 2D vector), `normal` or `bump` (textures, not both) and
     /// `bumpScale`; nullptr when every one has its default.
     static std::shared_ptr<const SurfaceShading> read(const PropertyList &props);
+    /// `base` (which may be nullptr: defaults) with `heights` as its bump map, scaled by
+    /// `scale`: what Mitsuba's `bumpmap` BSDF gives the shape it is on. Throws when `base`
+    /// already has a normal or bump map.
+    static std::shared_ptr<const SurfaceShading>
+    withBumpMap(const SurfaceShading *base, std::shared_ptr<const Texture> heights, float scale);
 
     /// uv as textures see them (scaled by uvScale).
     Point2f textureUV(const Point2f &uv) const { return uv.cwiseProduct(m_uvScale); }

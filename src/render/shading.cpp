@@ -40,6 +40,22 @@ std::shared_ptr<const SurfaceShading> SurfaceShading::read(const PropertyList &p
     return shading;
 }
 
+std::shared_ptr<const SurfaceShading>
+SurfaceShading::withBumpMap(const SurfaceShading *base, std::shared_ptr<const Texture> heights,
+                            float scale) {
+    auto shading =
+        base ? std::make_shared<SurfaceShading>(*base) : std::make_shared<SurfaceShading>();
+    if (shading->m_normalMap || shading->m_bumpMap)
+        throw NoriException("the shape has a normal or bump map already");
+    if (!std::isfinite(scale))
+        throw NoriException("a bump map's scale must be finite");
+    // Heights are data: 8-bit images are not sRGB-decoded.
+    auto linear = heights->linearVariant();
+    shading->m_bumpMap = linear ? linear : std::move(heights);
+    shading->m_bumpScale = scale;
+    return shading;
+}
+
 namespace {
 
 /// Smallest cosine between the viewer and a perturbed shading normal (see perturbNormal).
