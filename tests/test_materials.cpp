@@ -217,7 +217,7 @@ TEST_CASE("twosided reflects from behind as its nested BSDF does from the front"
         errorOf([] { makeBSDF(R"(<bsdf type="twosided"><bsdf type="dielectric"/></bsdf>)"); }),
         Catch::Contains("lets light through"));
     CHECK_THAT(errorOf([] { makeBSDF(R"(<bsdf type="twosided"/>)"); }),
-               Catch::Contains("needs a nested <bsdf>"));
+               Catch::Contains("twosided: needs 1 nested <bsdf>, got 0"));
 }
 
 TEST_CASE("thindielectric reflects R = 2F/(1 + F) and passes the rest straight through",

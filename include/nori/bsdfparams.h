@@ -53,6 +53,29 @@ struct ConductorIOR {
 ConductorIOR readConductorIOR(const PropertyList &props, const std::string &plugin,
                               TextureParameters &textures);
 
+/// The coating and base of Mitsuba's plastics (plastic, roughplastic; Mitsuba 0.6
+/// documentation): `intIOR`, `extIOR`, `diffuseReflectance`, `specularReflectance`,
+/// `nonlinear`, and Mitsuba's weight steering samples to the specular lobe by the mean
+/// reflectances.
+struct PlasticLayers {
+    PlasticLayers(const PropertyList &props, TextureParameters &textures,
+                  const std::string &plugin);
+    float intIOR, extIOR;
+    float invEta2; ///< (extIOR/intIOR)²
+    std::shared_ptr<const Texture> diffuse, specular;
+    bool nonlinear;
+    float specularSamplingWeight; ///< s = mean specular/(mean diffuse + mean specular)
+
+    /// Mitsuba's probability of the specular lobe for its share of the light (F for the
+    /// smooth coating, 1 − T for the rough one): share·s/(share·s + (1 − share)(1 − s)).
+    float specularProbability(float share) const;
+    /// ρ' = ρ/(1 − F_dr), or ρ/(1 − ρ F_dr) when nonlinear: the base with its
+    /// interreflections under the coating summed as a geometric series.
+    Color3f baseReflectance(const TextureQuery &q, float fdrInternal) const;
+    Color3f specularReflectance(const TextureQuery &q) const { return specular->eval(q).max(0.0f); }
+    std::string toString() const;
+};
+
 /// Reads an index of refraction that may be given as a number or by a material's name
 /// (lookupIOR: "water", "bk7", ...), as Mitsuba's `intIOR` and `extIOR` are; `plugin`
 /// names the BSDF in errors, which also refuse a non-positive index.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <nori/dpdf.h>
+#include <nori/meshdata.h>
 #include <nori/shape.h>
 #include <nori/sphericaltriangle.h>
 #include <nori/transform.h>
@@ -108,6 +109,9 @@ protected:
     /// the bounding box. Normals and texture coordinates are optional (empty) but, when
     /// present, one per vertex.
     void finishLoading(const Transform &toWorld);
+    /// Takes the arrays of a mesh file: its vertex normals unless `faceNormals` (flat
+    /// shading), and with `flipNormals` every face turned over (winding and normals).
+    void takeMeshData(MeshData &&data, bool faceNormals, bool flipNormals);
     /// The shading frame and the normal's uv derivatives at barycentrics (b1, b2), from
     /// its.geoFrame and its.dpdu; with toWorld and toLocal, of the instance's copy.
     void setShadingFrame(uint32_t index, float b1, float b2, const AffineMap *toWorld,

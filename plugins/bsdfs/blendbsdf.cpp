@@ -19,29 +19,16 @@
  *       <bsdf type="dielectric"/> <bsdf type="diffuse"/>
  *   </bsdf>
  */
-#include <nori/bsdf.h>
 #include <nori/frame.h>
+#include <nori/nestedbsdf.h>
 
 namespace nori {
 namespace {
 
-class BlendBSDF : public BSDF {
+class BlendBSDF : public NestedBSDF {
 public:
-    explicit BlendBSDF(const PropertyList &props) {
+    explicit BlendBSDF(const PropertyList &props) : NestedBSDF("blendbsdf", 2, 2) {
         m_weight = m_textures.scalar(props, "weight", 0.5f, 0.0f, 1.0f);
-    }
-
-    void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override {
-        if (child->getClassType() != EBSDF)
-            return BSDF::addChild(child, name);
-        if (m_bsdfs[1])
-            throw NoriException("blendbsdf: takes exactly two nested BSDFs, got a third");
-        (m_bsdfs[0] ? m_bsdfs[1] : m_bsdfs[0]) = std::static_pointer_cast<BSDF>(child);
-    }
-
-    void activate() override {
-        if (!m_bsdfs[1])
-            throw NoriException("blendbsdf: needs two nested <bsdf>s, got {}", m_bsdfs[0] ? 1 : 0);
     }
 
     Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const override {
@@ -49,7 +36,7 @@ public:
         const int chosen = sample.x() < w ? 1 : 0;
         const Point2f reused(chosen == 1 ? sample.x() / w : (sample.x() - w) / (1.0f - w),
                              sample.y());
-        const Color3f lobeWeight = m_bsdfs[chosen]->sample(bRec, reused);
+        const Color3f lobeWeight = nested(static_cast<size_t>(chosen)).sample(bRec, reused);
         if ((lobeWeight == 0.0f).all())
             return Color3f(0.0f);
         // A Dirac lobe of the chosen BSDF (chosen with probability P): the blend's lobe has
@@ -61,25 +48,23 @@ public:
 
     Color3f eval(const BSDFQueryRecord &bRec) const override {
         const float w = weight(bRec);
-        return m_bsdfs[0]->eval(bRec) * (1.0f - w) + m_bsdfs[1]->eval(bRec) * w;
+        return nested(0).eval(bRec) * (1.0f - w) + nested(1).eval(bRec) * w;
     }
 
     float pdf(const BSDFQueryRecord &bRec) const override {
         const float w = weight(bRec);
-        return (1.0f - w) * m_bsdfs[0]->pdf(bRec) + w * m_bsdfs[1]->pdf(bRec);
+        return (1.0f - w) * nested(0).pdf(bRec) + w * nested(1).pdf(bRec);
     }
 
-    bool isDiffuse() const override { return m_bsdfs[0]->isDiffuse() || m_bsdfs[1]->isDiffuse(); }
+    bool isDiffuse() const override { return anyNestedDiffuse(); }
 
     Color3f albedo(const BSDFQueryRecord &bRec) const override {
         const float w = weight(bRec);
-        return m_bsdfs[0]->albedo(bRec) * (1.0f - w) + m_bsdfs[1]->albedo(bRec) * w;
+        return nested(0).albedo(bRec) * (1.0f - w) + nested(1).albedo(bRec) * w;
     }
 
     std::string toString() const override {
-        return fmt::format("BlendBSDF[weight={}, {}, {}]", m_weight->toString(),
-                           m_bsdfs[0] ? m_bsdfs[0]->toString() : "",
-                           m_bsdfs[1] ? m_bsdfs[1]->toString() : "");
+        return fmt::format("BlendBSDF[weight={}, {}]", m_weight->toString(), nestedToString());
     }
 
 private:
@@ -89,7 +74,6 @@ private:
     }
 
     std::shared_ptr<const Texture> m_weight;
-    std::shared_ptr<BSDF> m_bsdfs[2];
 };
 
 NORI_REGISTER_CLASS(BlendBSDF, "blendbsdf");

@@ -20,7 +20,7 @@
  *       </bsdf>
  *   </mesh>
  */
-#include <nori/bsdf.h>
+#include <nori/nestedbsdf.h>
 #include <nori/proplist.h>
 #include <nori/shading.h>
 #include <nori/shape.h>
@@ -28,9 +28,9 @@
 namespace nori {
 namespace {
 
-class BumpMap : public BSDF {
+class BumpMap : public SurfaceWrapperBSDF {
 public:
-    explicit BumpMap(const PropertyList &props) {
+    explicit BumpMap(const PropertyList &props) : SurfaceWrapperBSDF("bumpmap") {
         if (props.holdsObject("height")) {
             m_heights = std::dynamic_pointer_cast<const Texture>(props.getObject("height"));
             if (!m_heights)
@@ -41,60 +41,35 @@ public:
         m_scale = props.getFloat("scale", 1.0f);
     }
 
+    /// Takes the height field as a texture child without a name too (Mitsuba's way).
     void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override {
-        if (child->getClassType() == ETexture) {
-            if (m_heights)
-                throw NoriException("bumpmap: takes one height texture, got a second");
-            m_heights = std::static_pointer_cast<const Texture>(child);
-            return;
-        }
-        if (child->getClassType() != EBSDF)
-            return BSDF::addChild(child, name);
-        if (m_nested)
-            throw NoriException("bumpmap: takes one nested BSDF, got a second");
-        m_nested = std::static_pointer_cast<BSDF>(child);
+        if (child->getClassType() != ETexture)
+            return SurfaceWrapperBSDF::addChild(child, name);
+        if (m_heights)
+            throw NoriException("bumpmap: takes one height texture, got a second");
+        m_heights = std::static_pointer_cast<const Texture>(child);
     }
 
     void activate() override {
         if (!m_heights)
             throw NoriException("bumpmap: needs a height texture ('height' or a <texture> child)");
-        if (!m_nested)
-            throw NoriException("bumpmap: needs a nested <bsdf>, the surface");
-    }
-
-    /// On a shape: the shape's bump map is the height field, its BSDF the nested one.
-    bool attachTo(NoriObject &parent, const std::string &name) override {
-        auto *shape = dynamic_cast<Shape *>(&parent);
-        if (!shape)
-            return BSDF::attachTo(parent, name);
-        activate();
-        shape->setSurfaceShading(
-            SurfaceShading::withBumpMap(shape->getSurfaceShading(), m_heights, m_scale));
-        return m_nested->attachTo(parent, name);
-    }
-
-    // Elsewhere (a test of the BSDF alone), the flat surface.
-    Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const override {
-        return m_nested->sample(bRec, sample);
-    }
-    Color3f eval(const BSDFQueryRecord &bRec) const override { return m_nested->eval(bRec); }
-    float pdf(const BSDFQueryRecord &bRec) const override { return m_nested->pdf(bRec); }
-    bool isDiffuse() const override { return m_nested->isDiffuse(); }
-    Color3f albedo(const BSDFQueryRecord &bRec) const override { return m_nested->albedo(bRec); }
-    int discreteLobes(const BSDFQueryRecord &bRec, DiscreteLobe *lobes) const override {
-        return m_nested->discreteLobes(bRec, lobes);
+        SurfaceWrapperBSDF::activate();
     }
 
     std::string toString() const override {
         return fmt::format("BumpMap[height={}, scale={}, {}]",
-                           m_heights ? m_heights->toString() : "", m_scale,
-                           m_nested ? m_nested->toString() : "");
+                           m_heights ? m_heights->toString() : "", m_scale, nestedToString());
     }
 
 private:
+    /// The shape's bump map is the height field (its uvScale stays).
+    void decorate(Shape &shape) override {
+        shape.setSurfaceShading(
+            SurfaceShading::withBumpMap(shape.getSurfaceShading(), m_heights, m_scale));
+    }
+
     std::shared_ptr<const Texture> m_heights;
     float m_scale;
-    std::shared_ptr<BSDF> m_nested;
 };
 
 NORI_REGISTER_CLASS(BumpMap, "bumpmap");

@@ -16,29 +16,16 @@
  *       <bsdf type="roughconductor"><float name="alpha" value="0.1"/></bsdf>
  *   </bsdf>
  */
-#include <nori/bsdf.h>
 #include <nori/hash.h>
+#include <nori/nestedbsdf.h>
 
 namespace nori {
 namespace {
 
-class Mix : public BSDF {
+class Mix : public NestedBSDF {
 public:
-    explicit Mix(const PropertyList &props) {
+    explicit Mix(const PropertyList &props) : NestedBSDF("mix", 2, 2) {
         m_amount = m_textures.scalar(props, "amount", 0.5f, 0.0f, 1.0f);
-    }
-
-    void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override {
-        if (child->getClassType() != EBSDF)
-            return BSDF::addChild(child, name);
-        if (m_bsdfs[1])
-            throw NoriException("mix: takes exactly two nested BSDFs, got a third");
-        (m_bsdfs[0] ? m_bsdfs[1] : m_bsdfs[0]) = std::static_pointer_cast<BSDF>(child);
-    }
-
-    void activate() override {
-        if (!m_bsdfs[1])
-            throw NoriException("mix: needs two nested <bsdf>s, got {}", m_bsdfs[0] ? 1 : 0);
     }
 
     Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const override {
@@ -46,16 +33,14 @@ public:
     }
     Color3f eval(const BSDFQueryRecord &bRec) const override { return chosen(bRec).eval(bRec); }
     float pdf(const BSDFQueryRecord &bRec) const override { return chosen(bRec).pdf(bRec); }
-    bool isDiffuse() const override { return m_bsdfs[0]->isDiffuse() || m_bsdfs[1]->isDiffuse(); }
+    bool isDiffuse() const override { return anyNestedDiffuse(); }
     Color3f albedo(const BSDFQueryRecord &bRec) const override { return chosen(bRec).albedo(bRec); }
     int discreteLobes(const BSDFQueryRecord &bRec, DiscreteLobe *lobes) const override {
         return chosen(bRec).discreteLobes(bRec, lobes);
     }
 
     std::string toString() const override {
-        return fmt::format("Mix[amount={}, {}, {}]", m_amount->toString(),
-                           m_bsdfs[0] ? m_bsdfs[0]->toString() : "",
-                           m_bsdfs[1] ? m_bsdfs[1]->toString() : "");
+        return fmt::format("Mix[amount={}, {}]", m_amount->toString(), nestedToString());
     }
 
 private:
@@ -64,15 +49,14 @@ private:
     const BSDF &chosen(const BSDFQueryRecord &bRec) const {
         const float amount = m_amount->evalFloat(bRec);
         if (amount <= 0.0f)
-            return *m_bsdfs[0];
+            return nested(0);
         if (amount >= 1.0f)
-            return *m_bsdfs[1];
+            return nested(1);
         const float u = hashToUnitFloat(hashFloats(bRec.p.x(), bRec.p.y(), bRec.p.z()));
-        return amount < u ? *m_bsdfs[0] : *m_bsdfs[1];
+        return amount < u ? nested(0) : nested(1);
     }
 
     std::shared_ptr<const Texture> m_amount;
-    std::shared_ptr<BSDF> m_bsdfs[2];
 };
 
 NORI_REGISTER_CLASS(Mix, "mix");

@@ -42,7 +42,8 @@ namespace {
 class RoughPlastic : public BSDF {
 public:
     explicit RoughPlastic(const PropertyList &props)
-        : m_type(MicrofacetDistribution::parseType(props.getString("distribution", "beckmann"))) {
+        : m_type(MicrofacetDistribution::parseType(props.getString("distribution", "beckmann"))),
+          m_layers(props, m_textures, "roughplastic") {
         const float alpha = props.getFloat("alpha", 0.1f);
         m_alphaU = props.getFloat("alphaU", alpha);
         m_alphaV = props.getFloat("alphaV", alpha);
@@ -51,25 +52,13 @@ public:
                 throw NoriException("roughplastic: the roughness ('alpha', 'alphaU', 'alphaV') "
                                     "must lie in (0, {}], got {}",
                                     RoughTransmittance::kMaxAlpha, a);
-        m_intIOR = readIOR(props, "intIOR", 1.49f, "roughplastic");
-        m_extIOR = readIOR(props, "extIOR", 1.000277f, "roughplastic");
-        if (m_intIOR == m_extIOR)
-            throw NoriException("roughplastic: 'intIOR' and 'extIOR' must differ, both are {}",
-                                m_intIOR);
-        m_diffuse = m_textures.color(props, "diffuseReflectance", Color3f(0.5f));
-        m_specular = m_textures.color(props, "specularReflectance", Color3f(1.0f));
-        m_nonlinear = props.getBoolean("nonlinear", false);
-        const float eta = m_intIOR / m_extIOR;
-        m_invEta2 = 1.0f / (eta * eta);
+        const float eta = m_layers.intIOR / m_layers.extIOR;
         m_external = &RoughTransmittance::get(m_type, eta);
-        m_internal = &RoughTransmittance::get(m_type, 1.0f / eta);
-        const float diffuseMean = m_diffuse->average().getLuminance();
-        const float specularMean = m_specular->average().getLuminance();
-        m_specularSamplingWeight =
-            diffuseMean + specularMean > 0.0f ? specularMean / (diffuseMean + specularMean) : 0.5f;
         // F_dr of the coating seen from inside at the roughness of the base's light: for an
         // anisotropic coating, at the mean of the two.
-        m_fdrInternal = 1.0f - m_internal->diffuse(std::sqrt(m_alphaU * m_alphaV));
+        m_fdrInternal =
+            1.0f -
+            RoughTransmittance::get(m_type, 1.0f / eta).diffuse(std::sqrt(m_alphaU * m_alphaV));
     }
 
     Color3f sample(BSDFQueryRecord &bRec, const Point2f &sample) const override {
@@ -99,11 +88,12 @@ public:
         const MicrofacetDistribution d = distribution();
         const float cosI = Frame::cosTheta(bRec.wi), cosO = Frame::cosTheta(bRec.wo);
         const Vector3f h = Vector3f(bRec.wi + bRec.wo).normalized();
-        const float specular = fresnelDielectric(h.dot(bRec.wi), m_extIOR, m_intIOR) * d.D(h) *
-                               d.G(bRec.wi, bRec.wo, h) / (4.0f * cosI * cosO);
+        const float specular = fresnelDielectric(h.dot(bRec.wi), m_layers.extIOR, m_layers.intIOR) *
+                               d.D(h) * d.G(bRec.wi, bRec.wo, h) / (4.0f * cosI * cosO);
         const float throughCoating =
-            transmittance(bRec.wi) * transmittance(bRec.wo) * m_invEta2 * kInvPi;
-        return m_specular->eval(bRec).max(0.0f) * specular + baseReflectance(bRec) * throughCoating;
+            transmittance(bRec.wi) * transmittance(bRec.wo) * m_layers.invEta2 * kInvPi;
+        return m_layers.specularReflectance(bRec) * specular +
+               m_layers.baseReflectance(bRec, m_fdrInternal) * throughCoating;
     }
 
     float pdf(const BSDFQueryRecord &bRec) const override {
@@ -121,12 +111,9 @@ public:
     bool isDiffuse() const override { return true; }
 
     std::string toString() const override {
-        return fmt::format("RoughPlastic[distribution={}, alphaU={}, alphaV={}, intIOR={}, "
-                           "extIOR={}, diffuseReflectance={}, specularReflectance={}, "
-                           "nonlinear={}]",
+        return fmt::format("RoughPlastic[distribution={}, alphaU={}, alphaV={}, {}]",
                            m_type == MicrofacetDistribution::Type::GGX ? "ggx" : "beckmann",
-                           m_alphaU, m_alphaV, m_intIOR, m_extIOR, m_diffuse->toString(),
-                           m_specular->toString(), m_nonlinear);
+                           m_alphaU, m_alphaV, m_layers.toString());
     }
 
 private:
@@ -147,30 +134,16 @@ private:
         return (*m_external)(Frame::cosTheta(w), alpha);
     }
 
-    /// Mitsuba's probability of the microfacet lobe: its share 1 − T(θi), steered by the
-    /// mean reflectances.
+    /// Mitsuba's probability of the microfacet lobe: by its share 1 − T(θi).
     float specularProbabilityAt(const Vector3f &wi) const {
-        const float reflected = 1.0f - transmittance(wi);
-        const float specular = reflected * m_specularSamplingWeight;
-        const float diffuse = (1.0f - reflected) * (1.0f - m_specularSamplingWeight);
-        return specular + diffuse > 0.0f ? specular / (specular + diffuse) : 0.0f;
-    }
-
-    /// ρ' = ρ/(1 − F_dr), or ρ/(1 − ρ F_dr) when nonlinear.
-    Color3f baseReflectance(const TextureQuery &q) const {
-        const Color3f rho = m_diffuse->eval(q).max(0.0f).min(1.0f);
-        if (m_nonlinear)
-            return rho / (Color3f(1.0f) - rho * m_fdrInternal);
-        return rho / (1.0f - m_fdrInternal);
+        return m_layers.specularProbability(1.0f - transmittance(wi));
     }
 
     MicrofacetDistribution::Type m_type;
+    PlasticLayers m_layers;
     float m_alphaU, m_alphaV;
-    float m_intIOR, m_extIOR;
-    std::shared_ptr<const Texture> m_diffuse, m_specular;
-    bool m_nonlinear;
-    float m_invEta2, m_fdrInternal, m_specularSamplingWeight;
-    const RoughTransmittance *m_external, *m_internal;
+    float m_fdrInternal;
+    const RoughTransmittance *m_external;
 };
 
 NORI_REGISTER_CLASS(RoughPlastic, "roughplastic");

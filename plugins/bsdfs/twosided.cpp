@@ -14,31 +14,21 @@
  *       <bsdf type="diffuse"><color name="albedo" value="0.2, 0.5, 0.2"/></bsdf>
  *   </bsdf>
  */
-#include <nori/bsdf.h>
 #include <nori/frame.h>
+#include <nori/nestedbsdf.h>
 
 namespace nori {
 namespace {
 
-class TwoSided : public BSDF {
+class TwoSided : public NestedBSDF {
 public:
-    explicit TwoSided(const PropertyList &) {}
-
-    void addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) override {
-        if (child->getClassType() != EBSDF)
-            return BSDF::addChild(child, name);
-        if (m_back)
-            throw NoriException("twosided: takes at most two nested BSDFs (front and back)");
-        auto bsdf = std::static_pointer_cast<BSDF>(child);
-        (m_front ? m_back : m_front) = bsdf;
-    }
+    explicit TwoSided(const PropertyList &) : NestedBSDF("twosided", 1, 2) {}
 
     void activate() override {
-        if (!m_front)
-            throw NoriException("twosided: needs a nested <bsdf>, the one to make two-sided");
-        if (!m_back)
-            m_back = m_front;
-        for (const BSDF *side : {m_front.get(), m_back.get()})
+        NestedBSDF::activate();
+        m_front = &nested(0);
+        m_back = &nested(nestedCount() - 1);
+        for (const BSDF *side : {m_front, m_back})
             if (transmits(*side))
                 throw NoriException("twosided: the nested {} lets light through; twosided "
                                     "takes reflecting BSDFs only",
@@ -73,7 +63,7 @@ public:
         return m_back->pdf(mirror(bRec));
     }
 
-    bool isDiffuse() const override { return m_front->isDiffuse() || m_back->isDiffuse(); }
+    bool isDiffuse() const override { return anyNestedDiffuse(); }
 
     Color3f albedo(const BSDFQueryRecord &bRec) const override {
         if (Frame::cosTheta(bRec.wi) >= 0.0f)
@@ -90,11 +80,7 @@ public:
         return count;
     }
 
-    std::string toString() const override {
-        if (m_back == m_front)
-            return fmt::format("TwoSided[{}]", m_front ? m_front->toString() : "");
-        return fmt::format("TwoSided[front={}, back={}]", m_front->toString(), m_back->toString());
-    }
+    std::string toString() const override { return fmt::format("TwoSided[{}]", nestedToString()); }
 
 private:
     static Vector3f flip(const Vector3f &w) { return {w.x(), w.y(), -w.z()}; }
@@ -122,7 +108,7 @@ private:
         return false;
     }
 
-    std::shared_ptr<BSDF> m_front, m_back;
+    const BSDF *m_front = nullptr, *m_back = nullptr; ///< the nested ones, set by activate()
 };
 
 NORI_REGISTER_CLASS(TwoSided, "twosided");

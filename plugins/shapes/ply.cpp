@@ -35,18 +35,7 @@ public:
         const bool faceNormals = props.getBoolean("faceNormals", false);
         const bool flip = props.getBoolean("flipNormals", false);
         readSurfaceParameters(*this, props);
-        MeshData mesh = readPLY(m_name);
-        m_positions = std::move(mesh.positions);
-        m_texCoords = std::move(mesh.texCoords);
-        if (!faceNormals)
-            m_normals = std::move(mesh.normals);
-        m_faces = std::move(mesh.triangles);
-        if (flip) {
-            for (Vector3i &face : m_faces)
-                std::swap(face.y(), face.z());
-            for (Normal3f &normal : m_normals)
-                normal = -normal;
-        }
+        takeMeshData(readPLY(m_name), faceNormals, flip);
         finishLoading(toWorld);
     }
 };

@@ -39,17 +39,7 @@ public:
         readSurfaceParameters(*this, props);
         SerializedMesh mesh = readSerialized(filename, shapeIndex);
         m_name = mesh.name.empty() ? fmt::format("{}[{}]", filename, shapeIndex) : mesh.name;
-        m_positions = std::move(mesh.data.positions);
-        m_texCoords = std::move(mesh.data.texCoords);
-        if (!faceNormals && !mesh.faceNormals)
-            m_normals = std::move(mesh.data.normals);
-        m_faces = std::move(mesh.data.triangles);
-        if (flip) {
-            for (Vector3i &face : m_faces)
-                std::swap(face.y(), face.z());
-            for (Normal3f &normal : m_normals)
-                normal = -normal;
-        }
+        takeMeshData(std::move(mesh.data), faceNormals || mesh.faceNormals, flip);
         finishLoading(toWorld);
     }
 };

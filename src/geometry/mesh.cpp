@@ -170,6 +170,20 @@ Vector3f Mesh::faceForward(const Vector3f &geoNormal, uint32_t index, float b1, 
     return geoNormal.dot(shadingNormal) < 0.0f ? Vector3f(-geoNormal) : geoNormal;
 }
 
+void Mesh::takeMeshData(MeshData &&data, bool faceNormals, bool flipNormals) {
+    m_positions = std::move(data.positions);
+    m_texCoords = std::move(data.texCoords);
+    if (!faceNormals)
+        m_normals = std::move(data.normals);
+    m_faces = std::move(data.triangles);
+    if (flipNormals) {
+        for (Vector3i &face : m_faces)
+            std::swap(face.y(), face.z());
+        for (Normal3f &normal : m_normals)
+            normal = -normal;
+    }
+}
+
 void Mesh::finishLoading(const Transform &toWorld) {
     for (Point3f &p : m_positions)
         p = toWorld * p;

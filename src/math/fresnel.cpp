@@ -1,6 +1,8 @@
 #include <nori/fresnel.h>
+#include <nori/spectrum.h>
 #include <nori/strutil.h>
 
+#include <algorithm>
 #include <map>
 
 namespace nori {
@@ -100,11 +102,22 @@ void lookupConductor(const std::string &name, Color3f &eta, Color3f &k) {
         {"Al", {Color3f(1.65746f, 0.880369f, 0.521229f), Color3f(9.22387f, 6.26952f, 4.837f)}},
     };
     auto it = kMetals.find(name);
+    // pbrt-v4's measured spectra of the others, turned into RGB (spectrum.h).
+    static const std::vector<std::string> kSpectral = {"CuZn", "MgO", "TiO2"};
+    if (it == kMetals.end() &&
+        std::find(kSpectral.begin(), kSpectral.end(), name) != kSpectral.end()) {
+        const PiecewiseLinearSpectrum &etaSpectrum = namedSpectrum("metal-" + name + "-eta");
+        const PiecewiseLinearSpectrum &kSpectrum = namedSpectrum("metal-" + name + "-k");
+        eta = reflectanceToRGB([&](float lambda) { return etaSpectrum(lambda); });
+        k = reflectanceToRGB([&](float lambda) { return kSpectrum(lambda); }).max(0.0f);
+        return;
+    }
     if (it == kMetals.end()) {
         std::vector<std::string> names;
         names.reserve(kMetals.size());
         for (const auto &metal : kMetals)
             names.push_back(metal.first);
+        names.insert(names.end(), kSpectral.begin(), kSpectral.end());
         throw NoriException("unknown metal '{}'{} (known: {})", name, didYouMean(name, names),
                             fmt::join(names, ", "));
     }

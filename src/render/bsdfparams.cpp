@@ -53,6 +53,41 @@ float readIOR(const PropertyList &props, const std::string &name, float defaultV
     return ior;
 }
 
+PlasticLayers::PlasticLayers(const PropertyList &props, TextureParameters &textures,
+                             const std::string &plugin) {
+    intIOR = readIOR(props, "intIOR", 1.49f, plugin);
+    extIOR = readIOR(props, "extIOR", 1.000277f, plugin);
+    if (intIOR == extIOR)
+        throw NoriException("{}: 'intIOR' and 'extIOR' must differ, both are {}", plugin, intIOR);
+    invEta2 = (extIOR / intIOR) * (extIOR / intIOR);
+    diffuse = textures.color(props, "diffuseReflectance", Color3f(0.5f));
+    specular = textures.color(props, "specularReflectance", Color3f(1.0f));
+    nonlinear = props.getBoolean("nonlinear", false);
+    const float diffuseMean = diffuse->average().getLuminance();
+    const float specularMean = specular->average().getLuminance();
+    specularSamplingWeight =
+        diffuseMean + specularMean > 0.0f ? specularMean / (diffuseMean + specularMean) : 0.5f;
+}
+
+float PlasticLayers::specularProbability(float share) const {
+    const float toSpecular = share * specularSamplingWeight;
+    const float toDiffuse = (1.0f - share) * (1.0f - specularSamplingWeight);
+    return toSpecular + toDiffuse > 0.0f ? toSpecular / (toSpecular + toDiffuse) : 0.0f;
+}
+
+Color3f PlasticLayers::baseReflectance(const TextureQuery &q, float fdrInternal) const {
+    const Color3f rho = diffuse->eval(q).max(0.0f).min(1.0f);
+    if (nonlinear)
+        return rho / (Color3f(1.0f) - rho * fdrInternal);
+    return rho / (1.0f - fdrInternal);
+}
+
+std::string PlasticLayers::toString() const {
+    return fmt::format("intIOR={}, extIOR={}, diffuseReflectance={}, specularReflectance={}, "
+                       "nonlinear={}",
+                       intIOR, extIOR, diffuse->toString(), specular->toString(), nonlinear);
+}
+
 Color3f ConductorIOR::fresnel(const TextureQuery &q, float cosThetaI) const {
     // Textures may hold any value: keep η positive and k non-negative.
     const Color3f etaHere = eta->eval(q).max(1e-4f) / extIOR;
