@@ -36,7 +36,7 @@ public:
         const int chosen = sample.x() < w ? 1 : 0;
         const Point2f reused(chosen == 1 ? sample.x() / w : (sample.x() - w) / (1.0f - w),
                              sample.y());
-        const Color3f lobeWeight = nested(static_cast<size_t>(chosen)).sample(bRec, reused);
+        Color3f lobeWeight = nested(static_cast<size_t>(chosen)).sample(bRec, reused);
         if ((lobeWeight == 0.0f).all())
             return Color3f(0.0f);
         // A Dirac lobe of the chosen BSDF (chosen with probability P): the blend's lobe has
