@@ -2,16 +2,19 @@
  * blackbody — the colour of a blackbody's light: Planck's law at `temperature`,
  * normalised to 1 at its peak as pbrt-v4's `blackbody` spectra are, turned into linear sRGB
  * as every spectrum is (spectrum.h: integrated against the CIE 1931 matching functions,
- * then to sRGB). A constant texture: give it as an emitter's radiance, intensity or power.
+ * then to sRGB). A constant texture, for any colour that may be a texture (an area light's
+ * or an environment's radiance, say).
  *
  * Parameters:
  *   temperature  float  6500  in kelvin, positive
  *   scale        float  1     multiplies the colour
  *
- *   <emitter type="point"><point name="position" value="0, 2, 0"/>
- *       <texture type="blackbody" name="power"><float name="temperature" value="3000"/>
- *           <float name="scale" value="40"/></texture>
- *   </emitter>
+ *   <mesh type="sphere"><float name="radius" value="0.2"/>
+ *       <emitter type="area">
+ *           <texture type="blackbody" name="radiance"><float name="temperature" value="3000"/>
+ *               <float name="scale" value="40"/></texture>
+ *       </emitter>
+ *   </mesh>
  */
 #include <nori/proplist.h>
 #include <nori/spectrum.h>

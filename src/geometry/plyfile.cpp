@@ -6,6 +6,7 @@
 
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <optional>
@@ -72,6 +73,16 @@ public:
 
     double read(ScalarType type) {
         return m_encoding == Encoding::Ascii ? readAscii() : readBinary(type);
+    }
+
+    /// A list's length, of type `countType`: a whole number no larger than what is left
+    /// (ASCII files can write any number there, "nan" included).
+    size_t readListLength(ScalarType countType, const std::string &what) {
+        const double length = read(countType);
+        if (!(length >= 0.0 && length <= static_cast<double>(remaining())) ||
+            length != std::floor(length))
+            fail(fmt::format("{} has a bad length {}", what, length));
+        return static_cast<size_t>(length);
     }
 
     size_t remaining() const { return m_bytes.size() - m_offset; }
@@ -307,11 +318,9 @@ MeshData parsePLY(std::string_view bytes, const std::string &name) {
                 for (size_t p = 0; p < propertyCount; ++p) {
                     const Property &property = element.properties[p];
                     if (property.isList) { // a list on a vertex: read past it
-                        const double length = reader.read(property.countType);
-                        if (length < 0 || length > static_cast<double>(reader.remaining()))
-                            reader.fail(fmt::format("list '{}' has a bad length {}", property.name,
-                                                    length));
-                        for (size_t k = 0; k < static_cast<size_t>(length); ++k)
+                        const size_t length = reader.readListLength(
+                            property.countType, fmt::format("list '{}'", property.name));
+                        for (size_t k = 0; k < length; ++k)
                             reader.read(property.type);
                     } else {
                         values[p] = reader.read(property.type);
@@ -349,10 +358,8 @@ MeshData parsePLY(std::string_view bytes, const std::string &name) {
                         reader.read(property.type);
                         continue;
                     }
-                    const double length = reader.read(property.countType);
-                    if (length < 0 || length > static_cast<double>(reader.remaining()))
-                        reader.fail(fmt::format("face {} has a list of bad length {}", i, length));
-                    const auto n = static_cast<size_t>(length);
+                    const size_t n =
+                        reader.readListLength(property.countType, fmt::format("face {}'s list", i));
                     if (static_cast<int>(p) != indices) {
                         for (size_t k = 0; k < n; ++k)
                             reader.read(property.type);
@@ -375,19 +382,18 @@ MeshData parsePLY(std::string_view bytes, const std::string &name) {
                         mesh.triangles.emplace_back(polygon[0], polygon[k], polygon[k + 1]);
                 }
             }
-        } else {
-            // Another element (edges, materials, ...): read past it.
+        } else if (!element.properties.empty()) {
+            // Another element (edges, materials, ...): read past it. (Without properties its
+            // items take no bytes, however many a hostile header claims: nothing to read.)
             for (size_t i = 0; i < element.count; ++i)
                 for (const Property &property : element.properties) {
                     if (!property.isList) {
                         reader.read(property.type);
                         continue;
                     }
-                    const double length = reader.read(property.countType);
-                    if (length < 0 || length > static_cast<double>(reader.remaining()))
-                        reader.fail(
-                            fmt::format("list '{}' has a bad length {}", property.name, length));
-                    for (size_t k = 0; k < static_cast<size_t>(length); ++k)
+                    const size_t length = reader.readListLength(
+                        property.countType, fmt::format("list '{}'", property.name));
+                    for (size_t k = 0; k < length; ++k)
                         reader.read(property.type);
                 }
         }
