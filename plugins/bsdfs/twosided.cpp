@@ -41,7 +41,7 @@ public:
             return m_front->sample(bRec, sample);
         BSDFQueryRecord mirrored = bRec;
         mirrored.wi = flip(bRec.wi);
-        const Color3f weight = m_back->sample(mirrored, sample);
+        Color3f weight = m_back->sample(mirrored, sample);
         // A direction on the horizon (cos θ = 0) flips to −0, below it: no sample.
         if (Frame::cosTheta(mirrored.wo) <= 0.0f)
             return Color3f(0.0f);

@@ -109,10 +109,11 @@ SerializedMesh parseSerialized(std::string_view bytes, int shapeIndex, const std
         mesh.fail(fmt::format("has {} vertices; at most {} are supported", vertexCount,
                               std::numeric_limits<int>::max()));
     const bool wideIndices = vertexCount > std::numeric_limits<uint32_t>::max();
+    const uint64_t perTriangle = 3 * uint64_t(wideIndices ? 8 : 4);
     // The counts must fit what was inflated before anything is allocated.
     if (vertexCount > mesh.remaining() / perVertex ||
-        triangleCount > mesh.remaining() / (3 * (wideIndices ? 8 : 4)) ||
-        vertexCount * perVertex + triangleCount * 3 * (wideIndices ? 8 : 4) > mesh.remaining())
+        triangleCount > mesh.remaining() / perTriangle ||
+        vertexCount * perVertex + triangleCount * perTriangle > mesh.remaining())
         mesh.fail(fmt::format("claims {} vertices and {} triangles, more than its {} bytes hold",
                               vertexCount, triangleCount, mesh.remaining()));
     auto readScalar = [&]() -> float {
