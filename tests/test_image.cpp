@@ -80,7 +80,7 @@ TEST_CASE("An image block reproduces a constant image with any filter", "[filter
                 for (int x = 0; x < 4; ++x)
                     for (int s = 0; s < 4; ++s) // stratified positions inside the pixel
                         block.put(Point2f(4 * half + x + 0.25f + 0.5f * (s % 2),
-                                          y + 0.25f + 0.5f * (s / 2)),
+                                          y + 0.25f + (s >= 2 ? 0.5f : 0.0f)),
                                   Color3f(0.5f, 1.0f, 2.0f));
             image.put(block);
         }

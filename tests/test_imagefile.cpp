@@ -21,7 +21,7 @@ namespace {
 
 /// A small test pattern: value (x + 2y)/(w + 2h) in red, its complement in green, 0.25 blue.
 std::vector<unsigned char> pattern8(int width, int height) {
-    std::vector<unsigned char> rgb(3 * width * height);
+    std::vector<unsigned char> rgb(size_t(3) * width * height);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             const int value = 255 * (x + 2 * y) / (width + 2 * height);
@@ -69,7 +69,7 @@ std::string exrBytes(const std::vector<float> &rgb, int width, int height,
 }
 
 std::vector<float> floatPattern(int width, int height) {
-    std::vector<float> rgb(3 * width * height);
+    std::vector<float> rgb(size_t(3) * width * height);
     for (int i = 0; i < width * height; ++i) {
         rgb[3 * i + 0] = 0.001f * (i + 1);
         rgb[3 * i + 1] = 10.0f + i;
@@ -102,7 +102,8 @@ TEST_CASE("PNG and JPEG decode to their integers scaled to [0, 1], unconverted",
     const std::vector<unsigned char> expected16 = pattern8(16, 16);
     // JPEG is lossy: quality 100 stays within a few levels of 255.
     for (int i = 0; i < 16 * 16; ++i)
-        CHECK(jpeg.pixels(i / 16, i % 16)[0] == Approx(expected16[3 * i] / 255.0f).margin(0.04));
+        CHECK(jpeg.pixels(i / 16, i % 16)[0] ==
+              Approx(expected16[size_t(3) * i] / 255.0f).margin(0.04));
 }
 
 TEST_CASE("HDR and EXR decode to linear floats", "[imagefile]") {
@@ -118,7 +119,8 @@ TEST_CASE("HDR and EXR decode to linear floats", "[imagefile]") {
             CHECK(exr.pixels(i / 19, i % 19)[c] == rgb[3 * i + c]);
             // RGBE keeps 8 bits of mantissa for the largest channel: relative error < 1/256
             // of it, so the small red channel is compared in absolute terms.
-            const float largest = std::max({rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]});
+            const size_t first = size_t(3) * i;
+            const float largest = std::max({rgb[first], rgb[first + 1], rgb[first + 2]});
             CHECK(hdr.pixels(i / 19, i % 19)[c] == Approx(rgb[3 * i + c]).margin(largest / 128));
         }
 }
