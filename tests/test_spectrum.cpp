@@ -109,3 +109,76 @@ TEST_CASE("Named spectra, .spd files and inline pairs give the same colours", "[
         CHECK((k >= 0.0f).all());
     }
 }
+
+TEST_CASE("Every conductor name of Mitsuba 0.6 has measured eta and k", "[spectrum][bsdf]") {
+    // Mitsuba 0.6's table of conductor presets (its conductor plugin's documentation).
+    const std::vector<std::string> names = {
+        "a-C",       "Ag",         "Al",         "AlAs",       "AlAs_palik",
+        "AlSb",      "AlSb_palik", "Au",         "Be",         "Be_palik",
+        "Cr",        "CsI",        "CsI_palik",  "Cu",         "Cu_palik",
+        "Cu2O",      "Cu2O_palik", "CuO",        "CuO_palik",  "d-C",
+        "d-C_palik", "Hg",         "Hg_palik",   "HgTe",       "HgTe_palik",
+        "Ir",        "Ir_palik",   "K",          "K_palik",    "Li",
+        "Li_palik",  "MgO",        "MgO_palik",  "Mo",         "Mo_palik",
+        "Na_palik",  "Nb",         "Nb_palik",   "Ni_palik",   "Rh",
+        "Rh_palik",  "Se",         "Se_palik",   "Se-e",       "Se-e_palik",
+        "SiC",       "SiC_palik",  "SnTe",       "SnTe_palik", "Ta",
+        "Ta_palik",  "Te",         "Te_palik",   "Te-e",       "Te-e_palik",
+        "ThF4",      "ThF4_palik", "TiC",        "TiC_palik",  "TiN",
+        "TiN_palik", "TiO2",       "TiO2_palik", "TiO2-e",     "TiO2-e_palik",
+        "VC",        "VC_palik",   "V_palik",    "VN",         "VN_palik",
+        "W",         "none"};
+    CHECK(names.size() == 72);
+    for (const std::string &name : names) {
+        CAPTURE(name);
+        Color3f eta, k;
+        lookupConductor(name, eta, k);
+        CHECK((eta >= 0.0f).all());
+        CHECK((k >= 0.0f).all());
+        CHECK(eta.allFinite());
+        CHECK(k.allFinite());
+    }
+    const auto normalReflectance = [](const std::string &name) {
+        Color3f eta, k;
+        lookupConductor(name, eta, k);
+        return fresnelConductor(1.0f, eta, k);
+    };
+    // "none" reflects everything at every angle.
+    Color3f eta, k;
+    lookupConductor("none", eta, k);
+    for (float cosTheta : {1.0f, 0.7f, 0.3f, 0.05f})
+        CHECK(fresnelConductor(cosTheta, eta, k).isApprox(Color3f(1.0f), 1e-5f));
+    // Diamond is a dielectric (k = 0) with η from 2.41 (red) to 2.46 (blue): R ≈ 0.17.
+    lookupConductor("d-C", eta, k);
+    INFO("d-C eta " << eta.transpose() << " k " << k.transpose());
+    CHECK((k.array() < 1e-3f).all());
+    CHECK(eta.r() == Approx(2.415f).margin(0.01f));
+    CHECK(eta.b() == Approx(2.45f).margin(0.015f));
+    CHECK(eta.b() > eta.r());
+    // Chromium, tungsten and nickel at normal incidence, against R = ((n−1)² + k²) /
+    // ((n+1)² + k²) of their tables at 650, 550 and 450 nm (an RGB channel averages a
+    // band, so within 3 %): Cr 3.64+4.36i, 3.12+4.42i, 1.92+4.15i; W 3.70+2.94i,
+    // 3.50+2.73i, 3.31+2.53i; Ni 2.02+3.82i, 1.78+3.26i, 1.63+2.66i.
+    const auto reflectance = [](float n, float kappa) {
+        return ((n - 1) * (n - 1) + kappa * kappa) / ((n + 1) * (n + 1) + kappa * kappa);
+    };
+    const Color3f chromium = normalReflectance("Cr"), tungsten = normalReflectance("W"),
+                  nickel = normalReflectance("Ni_palik");
+    INFO("Cr " << chromium.transpose() << ", W " << tungsten.transpose() << ", Ni "
+               << nickel.transpose());
+    CHECK(chromium.isApprox(
+        Color3f(reflectance(3.64f, 4.36f), reflectance(3.12f, 4.42f), reflectance(1.92f, 4.15f)),
+        0.03f));
+    CHECK(tungsten.isApprox(
+        Color3f(reflectance(3.70f, 2.94f), reflectance(3.50f, 2.73f), reflectance(3.31f, 2.53f)),
+        0.03f));
+    CHECK(nickel.isApprox(
+        Color3f(reflectance(2.02f, 3.82f), reflectance(1.78f, 3.26f), reflectance(1.63f, 2.66f)),
+        0.03f));
+    CHECK(nickel.r() > nickel.b());
+    CHECK_THAT(errorOf([] {
+                   Color3f e, kk;
+                   lookupConductor("Chromium", e, kk);
+               }),
+               Catch::Contains("unknown metal 'Chromium'") && Catch::Contains("W"));
+}

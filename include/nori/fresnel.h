@@ -18,7 +18,9 @@ Color3f fresnelConductor(float cosThetaI, const Color3f &eta, const Color3f &k);
 
 /// η and k (RGB, relative to air) of a named metal: "Au", "Ag", "Cu", "Al" (Mitsuba 0.5's
 /// RGB fits of measured spectra), "CuZn" (brass), "MgO", "TiO2" (pbrt-v4's measured
-/// spectra in RGB, spectrum.h). Throws NoriException listing the names otherwise.
+/// spectra in RGB, spectrum.h), every other `material` name of Mitsuba 0.6 ("Cr", "W",
+/// "Ni_palik", "a-C", …: its measured spectra in RGB alike) and "none" (η = 0, k = 1: a
+/// perfect mirror). Throws NoriException listing the names otherwise.
 void lookupConductor(const std::string &name, Color3f &eta, Color3f &k);
 
 /// The Fresnel diffuse reflectance F_dr(η) = 2 ∫₀¹ F(μ) μ dμ: the fraction of light arriving

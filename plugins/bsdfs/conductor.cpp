@@ -3,7 +3,8 @@
  * term (PBR 4th ed. §9.3.6).
  *
  * Parameters:
- *   material  string  —                  a named metal: Au, Ag, Cu, Al (instead of eta, k)
+ *   material  string  —                  a named metal: Au, Ag, Cu, Al, Cr, CuZn, W, none, …
+ *                                        (every name of Mitsuba 0.6 and pbrt-v4; instead of eta, k)
  *   eta       color/texture  (0.2, 0.92, 1.1)   real part of the index of refraction (copper)
  *   k         color/texture  (3.9, 2.45, 2.14)  imaginary part (absorption)
  *   extIOR    float   1.000277           index of refraction of the outside

@@ -5,7 +5,8 @@
  * Parameters:
  *   distribution  string  "ggx"   "beckmann" or "ggx"
  *   alpha         float/texture  0.1     roughness (> 0)
- *   material      string  —       a named metal: Au, Ag, Cu, Al (instead of eta and k)
+ *   material      string  —       a named metal: Au, Ag, Cu, Al, Cr, CuZn, W, none, … (every
+ *                                 name of Mitsuba 0.6 and pbrt-v4; instead of eta and k)
  *   eta, k        color/texture  copper  complex index of refraction
  *   extIOR        float   1.000277  index of refraction of the outside
  *

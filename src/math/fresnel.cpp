@@ -2,6 +2,8 @@
 #include <nori/spectrum.h>
 #include <nori/strutil.h>
 
+#include "math/spectraldata.h"
+
 #include <algorithm>
 #include <map>
 
@@ -94,35 +96,76 @@ float lookupIOR(const std::string &name) {
     return it->second;
 }
 
+namespace {
+
+/// A measured spectrum from interleaved (λ, value) pairs, held at its end values beyond
+/// the measured range out to the CIE tables' 360–830 nm: several of Mitsuba's tables stop
+/// short of it (diamond at 656 nm), and an optical constant does not drop to zero there.
+PiecewiseLinearSpectrum heldAtItsEnds(const float *pairs, size_t floats) {
+    std::vector<float> lambdas, values;
+    for (size_t i = 0; i + 1 < floats; i += 2) {
+        lambdas.push_back(pairs[i]);
+        values.push_back(pairs[i + 1]);
+    }
+    constexpr float kFirst = 360.0f, kLast = 830.0f;
+    if (lambdas.front() > kFirst) {
+        lambdas.insert(lambdas.begin(), kFirst);
+        values.insert(values.begin(), values.front());
+    }
+    if (lambdas.back() < kLast) {
+        lambdas.push_back(kLast);
+        values.push_back(values.back());
+    }
+    return PiecewiseLinearSpectrum(std::move(lambdas), std::move(values));
+}
+
+} // namespace
+
 void lookupConductor(const std::string &name, Color3f &eta, Color3f &k) {
     static const std::map<std::string, std::pair<Color3f, Color3f>> kMetals = {
         {"Au", {Color3f(0.143119f, 0.374957f, 1.44248f), Color3f(3.98316f, 2.38572f, 1.60322f)}},
         {"Ag", {Color3f(0.155265f, 0.116723f, 0.138342f), Color3f(4.82835f, 3.12225f, 2.14696f)}},
         {"Cu", {Color3f(0.200438f, 0.924033f, 1.10221f), Color3f(3.91295f, 2.45285f, 2.14219f)}},
         {"Al", {Color3f(1.65746f, 0.880369f, 0.521229f), Color3f(9.22387f, 6.26952f, 4.837f)}},
+        // Mitsuba's "none": η = 0, k = 1 reflects everything at every angle, a perfect mirror.
+        {"none", {Color3f(0.0f), Color3f(1.0f)}},
     };
-    auto it = kMetals.find(name);
-    // pbrt-v4's measured spectra of the others, turned into RGB (spectrum.h).
-    static const std::vector<std::string> kSpectral = {"CuZn", "MgO", "TiO2"};
-    if (it == kMetals.end() &&
-        std::find(kSpectral.begin(), kSpectral.end(), name) != kSpectral.end()) {
-        const PiecewiseLinearSpectrum &etaSpectrum = namedSpectrum("metal-" + name + "-eta");
-        const PiecewiseLinearSpectrum &kSpectrum = namedSpectrum("metal-" + name + "-k");
-        eta = reflectanceToRGB([&](float lambda) { return etaSpectrum(lambda); });
-        k = reflectanceToRGB([&](float lambda) { return kSpectrum(lambda); }).max(0.0f);
+    if (const auto it = kMetals.find(name); it != kMetals.end()) {
+        eta = it->second.first;
+        k = it->second.second;
         return;
     }
-    if (it == kMetals.end()) {
-        std::vector<std::string> names;
-        names.reserve(kMetals.size());
-        for (const auto &metal : kMetals)
-            names.push_back(metal.first);
-        names.insert(names.end(), kSpectral.begin(), kSpectral.end());
-        throw NoriException("unknown metal '{}'{} (known: {})", name, didYouMean(name, names),
-                            fmt::join(names, ", "));
+    // Measured spectra, turned into RGB once by the method of spectrum.h: pbrt-v4's
+    // brass, MgO and TiO2, then the rest of Mitsuba 0.6's names.
+    const auto toRGB = [&](const PiecewiseLinearSpectrum &etaSpectrum,
+                           const PiecewiseLinearSpectrum &kSpectrum) {
+        eta = reflectanceToRGB([&](float lambda) { return etaSpectrum(lambda); });
+        k = reflectanceToRGB([&](float lambda) { return kSpectrum(lambda); }).max(0.0f);
+    };
+    static const std::vector<std::string> kPbrtSpectral = {"CuZn", "MgO", "TiO2"};
+    if (std::find(kPbrtSpectral.begin(), kPbrtSpectral.end(), name) != kPbrtSpectral.end()) {
+        toRGB(namedSpectrum("metal-" + name + "-eta"), namedSpectrum("metal-" + name + "-k"));
+        return;
     }
-    eta = it->second.first;
-    k = it->second.second;
+    using spectraldata::kMitsubaConductorCount;
+    using spectraldata::kMitsubaConductors;
+    const auto *end = kMitsubaConductors + kMitsubaConductorCount;
+    const auto *measured = std::find_if(kMitsubaConductors, end, [&](const auto &conductor) {
+        return name == conductor.name;
+    });
+    if (measured != end) {
+        toRGB(heldAtItsEnds(measured->eta, measured->etaSize),
+              heldAtItsEnds(measured->k, measured->kSize));
+        return;
+    }
+    std::vector<std::string> names;
+    for (const auto &metal : kMetals)
+        names.push_back(metal.first);
+    names.insert(names.end(), kPbrtSpectral.begin(), kPbrtSpectral.end());
+    for (const auto *conductor = kMitsubaConductors; conductor != end; ++conductor)
+        names.emplace_back(conductor->name);
+    throw NoriException("unknown metal '{}'{} (known: {})", name, didYouMean(name, names),
+                        fmt::join(names, ", "));
 }
 
 } // namespace nori

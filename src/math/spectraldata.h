@@ -22,4 +22,16 @@ extern const float kGlassBK7[], kGlassBAF10[], kGlassFK51A[], kGlassLASF9[], kGl
 extern const size_t kGlassBK7Size, kGlassBAF10Size, kGlassFK51ASize, kGlassLASF9Size, kGlassF5Size,
     kGlassF10Size, kGlassF11Size;
 
+/// A conductor Mitsuba 0.6 names, with its measured η and k as interleaved (λ, value)
+/// pairs; the sizes count floats (mitsubaconductors.cpp).
+struct MeasuredConductor {
+    const char *name;
+    const float *eta;
+    size_t etaSize;
+    const float *k;
+    size_t kSize;
+};
+extern const MeasuredConductor kMitsubaConductors[];
+extern const size_t kMitsubaConductorCount;
+
 } // namespace nori::spectraldata
