@@ -37,8 +37,8 @@ ConductorIOR readConductorIOR(const PropertyList &props, const std::string &plug
 float readIOR(const PropertyList &props, const std::string &name, float defaultValue,
               const std::string &plugin) {
     float ior = defaultValue;
-    if (props.holdsScalar(name)) {
-        ior = props.getFloat(name);
+    if (props.holdsScalar(name) || props.holdsObject(name)) {
+        ior = props.getFloat(name); // a nested object: getFloat names the mismatch
     } else if (props.has(name)) {
         try {
             ior = lookupIOR(props.getString(name));
