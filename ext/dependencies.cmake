@@ -12,6 +12,8 @@ find_package(JPEG REQUIRED)
 find_package(Threads REQUIRED)
 # zlib: compressed meshes (.ply.gz, Mitsuba's `serialized` files).
 find_package(ZLIB REQUIRED)
+# tinygltf: glTF 2.0 assets (the `gltf` shape); its JSON parsing and buffer fetching.
+find_package(TinyGLTF REQUIRED)
 # CLI11 (header-only): the programs' command lines.
 find_package(CLI11 2 REQUIRED)
 # The HTTP server of the browser preview (nori --preview). Debian builds cpp-httplib as a

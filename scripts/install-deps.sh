@@ -21,6 +21,7 @@ packages=(
     libnanovdb-dev          # NanoVDB grid files of heterogeneous media (header-only)
     libcli11-dev            # the programs' command lines (header-only)
     zlib1g-dev              # compressed meshes: .ply.gz, Mitsuba's serialized files
+    libtinygltf-dev         # glTF 2.0 assets (the gltf shape)
 )
 if [ "${1:-}" = "--test" ]; then
     packages+=(

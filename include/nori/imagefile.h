@@ -18,13 +18,16 @@ struct ImageFile {
     /// True for 8- and 16-bit formats (PNG, JPEG, TGA): values are the integers scaled to
     /// [0, 1], sRGB-encoded by convention. False for float formats (HDR, EXR): linear.
     bool integerEncoded = false;
+    /// A PNG's alpha channel (its value in every colour channel), straight, not
+    /// premultiplied; empty for images without one and for the other formats.
+    Bitmap alpha;
 };
 
 /// Largest image accepted: 2^27 pixels (1.5 GiB as float RGB), each side at most 65536.
 constexpr std::size_t kMaxImageFilePixels = std::size_t(1) << 27;
 
 /// Decodes `bytes`, the content of the file `name` (used in messages). Grey images are
-/// expanded to RGB and alpha is dropped. Throws NoriException on any defect, and for
+/// expanded to RGB; alpha is kept (in ImageFile::alpha) for PNG only. Throws NoriException on any defect, and for
 /// images of more than `maxPixels` pixels.
 ImageFile decodeImageFile(const std::string &bytes, const std::string &name,
                           std::size_t maxPixels = kMaxImageFilePixels);

@@ -18,6 +18,17 @@ namespace nori {
 
 class ShapeGroup;
 
+/// A <mesh> that stands for several shapes, each with its own BSDF and maybe an area
+/// light (a glTF file's primitives and materials): the scene or shape group that takes it
+/// adds each of its parts in its place.
+class CompoundShape : public NoriObject {
+public:
+    static constexpr EClassType kClassType = EMesh;
+    /// The parts, made and activated by the compound's activate().
+    virtual const std::vector<std::shared_ptr<Shape>> &parts() const = 0;
+    EClassType getClassType() const override { return kClassType; }
+};
+
 /// <mesh type="instance">: a shape group placed by `toWorld`.
 class Instance : public NoriObject {
 public:
@@ -92,8 +103,9 @@ private:
 class ShapeCollection {
 public:
     /// Takes a <mesh> child: a shape (rendered unless `visible` is false, with its tmesh
-    /// copies), an instance (kept only as a record in the Accel), or a shape group (a
-    /// declaration, used through <ref>: ignored here). A tmesh outside a mesh is an error.
+    /// copies), a compound shape (each of its parts), an instance (kept only as a record
+    /// in the Accel), or a shape group (a declaration, used through <ref>: ignored here).
+    /// A tmesh outside a mesh is an error.
     void add(const std::shared_ptr<NoriObject> &child);
     /// Builds the Accel over the visible shapes and every placement.
     void build();

@@ -67,7 +67,8 @@ public:
             break;
         case EMesh: {
             // A shape carrying an area light: test that light (its sampling needs the shape).
-            auto emitter = std::static_pointer_cast<Shape>(child)->getEmitterPtr();
+            auto shape = std::dynamic_pointer_cast<Shape>(child);
+            auto emitter = shape ? shape->getEmitterPtr() : nullptr;
             if (!emitter)
                 throw NoriException("chi2test: a nested <mesh> must carry an <emitter> to test");
             m_subjects.push_back(emitter);

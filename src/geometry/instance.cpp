@@ -133,6 +133,9 @@ void ShapeCollection::add(const std::shared_ptr<NoriObject> &child) {
         keepAlive(instance->group());
     } else if (std::dynamic_pointer_cast<ShapeGroup>(child)) {
         // A declaration: its instances place it.
+    } else if (auto compound = std::dynamic_pointer_cast<CompoundShape>(child)) {
+        for (const auto &part : compound->parts())
+            add(part);
     } else if (std::dynamic_pointer_cast<TMesh>(child)) {
         throw NoriException("a <mesh type=\"tmesh\"> must be nested inside the mesh whose "
                             "geometry it copies");
@@ -171,6 +174,11 @@ ShapeGroup::ShapeGroup(const PropertyList &props) : m_target{&m_contents.accel()
 void ShapeGroup::addChild(const std::shared_ptr<NoriObject> &child, const std::string &name) {
     if (child->getClassType() != EMesh) {
         NoriObject::addChild(child, name);
+        return;
+    }
+    if (auto compound = std::dynamic_pointer_cast<CompoundShape>(child)) {
+        for (const auto &part : compound->parts())
+            addChild(part, name);
         return;
     }
     if (const auto *shape = dynamic_cast<const Shape *>(child.get()); shape && shape->getEmitter())

@@ -66,6 +66,7 @@ void pngRead(png_structp png, png_bytep out, png_size_t count) {
 struct PngLayout {
     png_uint_32 width = 0, height = 0;
     int bitDepth = 0;
+    bool hasAlpha = false;
     std::size_t rowBytes = 0;
 };
 
@@ -80,9 +81,13 @@ bool readPngHeader(png_structp png, png_infop info, std::size_t maxPixels, PngLa
     layout.height = png_get_image_height(png, info);
     if (static_cast<uint64_t>(layout.width) * layout.height > maxPixels)
         png_error(png, "image too large");
+    const png_byte colorType = png_get_color_type(png, info);
+    layout.hasAlpha =
+        (colorType & PNG_COLOR_MASK_ALPHA) != 0 || png_get_valid(png, info, PNG_INFO_tRNS) != 0;
     png_set_expand(png); // palette → RGB, grey < 8 bit → 8 bit, tRNS → alpha
     png_set_gray_to_rgb(png);
-    png_set_strip_alpha(png);
+    if (!layout.hasAlpha) // every row RGBA: an opaque alpha where the file has none
+        png_set_filler(png, 0xffff, PNG_FILLER_AFTER);
     png_set_interlace_handling(png);
     png_read_update_info(png, info);
     layout.bitDepth = png_get_bit_depth(png, info);
@@ -121,7 +126,7 @@ ImageFile decodePng(const std::string &bytes, const std::string &name, std::size
     }
     checkSize(layout.width, layout.height, maxPixels, name, "PNG");
     const int bytesPerSample = layout.bitDepth == 16 ? 2 : 1;
-    if (layout.rowBytes != static_cast<std::size_t>(layout.width) * 3 * bytesPerSample)
+    if (layout.rowBytes != static_cast<std::size_t>(layout.width) * 4 * bytesPerSample)
         throw NoriException("PNG image '{}': unexpected row layout", name);
     std::vector<png_byte> data(layout.rowBytes * layout.height);
     std::vector<png_bytep> rows(layout.height);
@@ -130,14 +135,19 @@ ImageFile decodePng(const std::string &bytes, const std::string &name, std::size
     if (!readPngRows(png, info, rows))
         throw NoriException("PNG image '{}' is invalid: {}", name, source.message);
 
-    ImageFile image{Bitmap(Eigen::Vector2i(layout.width, layout.height)), true};
+    ImageFile image{Bitmap(Eigen::Vector2i(layout.width, layout.height)), true, Bitmap()};
+    if (layout.hasAlpha)
+        image.alpha = Bitmap(Eigen::Vector2i(layout.width, layout.height));
     const float scale = 1.0f / (bytesPerSample == 2 ? 65535.0f : 255.0f);
     for (png_uint_32 y = 0; y < layout.height; ++y)
         for (png_uint_32 x = 0; x < layout.width; ++x)
-            for (int c = 0; c < 3; ++c) {
-                const png_byte *sample = rows[y] + (3 * std::size_t(x) + c) * bytesPerSample;
+            for (int c = 0; c < 4; ++c) {
+                const png_byte *sample = rows[y] + (4 * std::size_t(x) + c) * bytesPerSample;
                 const int value = bytesPerSample == 2 ? (sample[0] << 8) | sample[1] : sample[0];
-                image.pixels.coeffRef(y, x)[c] = value * scale;
+                if (c < 3)
+                    image.pixels.coeffRef(y, x)[c] = value * scale;
+                else if (layout.hasAlpha)
+                    image.alpha.coeffRef(y, x) = Color3f(value * scale);
             }
     return image;
 }
@@ -231,7 +241,7 @@ ImageFile decodeJpeg(const std::string &bytes, const std::string &name, std::siz
             checkSize(width, height, maxPixels, name, "JPEG");
         throw NoriException("JPEG image '{}' is invalid: {}", name, errors.message);
     }
-    ImageFile image{Bitmap(Eigen::Vector2i(width, height)), true};
+    ImageFile image{Bitmap(Eigen::Vector2i(width, height)), true, Bitmap()};
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
             for (int c = 0; c < 3; ++c)
@@ -251,7 +261,7 @@ public:
     ImageFile decode(std::size_t maxPixels) {
         readHeader();
         checkSize(m_width, m_height, maxPixels, m_name, "HDR");
-        ImageFile image{Bitmap(Eigen::Vector2i(m_width, m_height)), false};
+        ImageFile image{Bitmap(Eigen::Vector2i(m_width, m_height)), false, Bitmap()};
         std::vector<uint8_t> line(static_cast<std::size_t>(m_width) * 4);
         for (int y = 0; y < m_height; ++y) {
             readScanline(line, y);
@@ -376,10 +386,10 @@ ImageFile decodeExr(const std::string &bytes, const std::string &name, std::size
     for (const std::string &layer : layered.layerNames()) {
         const std::vector<std::string> channels = layered.channelsOf(layer);
         if (channels.size() >= 3 && channels[0] == "R" && channels[1] == "G" && channels[2] == "B")
-            return {layered.layer(layer), false};
+            return {layered.layer(layer), false, Bitmap()};
     }
     if (layered.channels().size() == 1)
-        return {layered.layer(layered.layerNames().front()), false};
+        return {layered.layer(layered.layerNames().front()), false, Bitmap()};
     throw NoriException("EXR image '{}' has no R, G and B channels (and is not a one-channel "
                         "grey image)",
                         name);
@@ -432,7 +442,7 @@ ImageFile decodePfm(const std::string &bytes, const std::string &name, std::size
         throw NoriException("PFM image '{}' ends early (truncated): {}x{} pixels need {} bytes",
                             name, width, height, valueCount * sizeof(float));
     const bool bigEndian = scale > 0.0;
-    ImageFile image{Bitmap(Eigen::Vector2i(int(width), int(height))), false};
+    ImageFile image{Bitmap(Eigen::Vector2i(int(width), int(height))), false, Bitmap()};
     for (int64_t row = 0; row < height; ++row)
         for (int64_t x = 0; x < width; ++x)
             for (int c = 0; c < 3; ++c) {
@@ -532,7 +542,7 @@ public:
                                  palette.size()));
             return palette[static_cast<std::size_t>(index)];
         };
-        ImageFile image{Bitmap(Eigen::Vector2i(width, height)), true};
+        ImageFile image{Bitmap(Eigen::Vector2i(width, height)), true, Bitmap()};
         const std::size_t count =
             static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
         std::size_t written = 0;

@@ -110,8 +110,7 @@ std::shared_ptr<NoriObject> subjectOf(const std::shared_ptr<NoriObject> &root,
                                       NoriObject::EClassType type) {
     if (root->getClassType() == type)
         return root;
-    if (root->getClassType() == NoriObject::EMesh) {
-        const auto shape = std::static_pointer_cast<Shape>(root);
+    if (const auto shape = std::dynamic_pointer_cast<Shape>(root)) {
         if (type == NoriObject::EEmitter && shape->getEmitterPtr())
             return shape->getEmitterPtr();
         if (type == NoriObject::EBSDF)
