@@ -28,7 +28,7 @@ if [ "${1:-}" = "--test" ]; then
         catch2              # unit and statistical tests
         clang               # the fuzz targets' compiler ...
         libclang-rt-14-dev  # ... and its libFuzzer, ASan and UBSan runtimes
-        util-linux          # prlimit, for the out-of-memory case of the bad-input corpus
+        util-linux          # prlimit: the bad-input corpus's out-of-memory case, failed writes
         slurm-wlm munge     # the split-render test's one-node Slurm cluster
         chromium chromium-driver python3-selenium  # the preview's headless-browser test
         blender             # the exporter's test: Blender builds, exports and renders (Cycles)

@@ -1,13 +1,19 @@
 // The `nori` program as a user runs it: output files, options, errors and Ctrl-C.
 #include <nori/bitmap.h>
+#include <nori/filesystem.h>
 #include <nori/statistics.h>
 
 #include "testutil.h"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <filesystem>
+
 using namespace nori;
 using Catch::Contains;
+using nori::testing::ProcessResult;
+using nori::testing::runCommand;
 using nori::testing::runNori;
 using nori::testing::TempDir;
 
@@ -224,4 +230,50 @@ TEST_CASE("The exposure option brightens the PNG by 2^E and leaves the EXR alone
                               "sanitizers (on|off)\n"));
     auto badExposure = runNori({"--exposure", "nan", scene});
     CHECK(badExposure.exitCode == 1);
+}
+
+TEST_CASE("A write that fails keeps the previous image and says why", "[cli][output]") {
+    TempDir dir;
+    dir.write("meshes/floor.obj", kFloor);
+    const std::string scene = dir.write("scene.xml", kScene);
+    const std::string stem = (dir.path() / "out" / "image").string();
+    std::filesystem::create_directories(dir.path() / "out");
+    REQUIRE(runNori({"--no-progress", "-o", stem, scene}).exitCode == 0);
+    const std::string exr = readBinaryFile(stem + ".exr", "EXR"),
+                      png = readBinaryFile(stem + ".png", "PNG");
+    const auto leftovers = [&] {
+        std::vector<std::string> names;
+        for (const auto &entry : std::filesystem::directory_iterator(dir.path() / "out"))
+            names.push_back(entry.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return names;
+    };
+    // A file size limit below the new EXR's size (the EXR of 192² pixels is larger than
+    // 20 kB): the write fails, the previous files stay, no temporary file is left.
+    const ProcessResult limited =
+        runCommand("/usr/bin/prlimit", {"--fsize=20000", NORI_EXECUTABLE, "--no-progress",
+                                        "-Dsize=192", "-o", stem, scene});
+    INFO(limited.output);
+    CHECK(limited.exitCode == 1);
+    CHECK_THAT(limited.output,
+               Contains("cannot write EXR image '" + stem + ".exr': File too large"));
+    CHECK(readBinaryFile(stem + ".exr", "EXR") == exr);
+    CHECK(readBinaryFile(stem + ".png", "PNG") == png);
+    CHECK(leftovers() == std::vector<std::string>{"image.exr", "image.png"});
+    // nori-imgtool's writes go the same way.
+    const ProcessResult converted =
+        runCommand("/usr/bin/prlimit",
+                   {"--fsize=100", IMGTOOL_EXECUTABLE, "convert", stem + ".exr", stem + ".png"});
+    INFO(converted.output);
+    CHECK(converted.exitCode != 0);
+    CHECK_THAT(converted.output,
+               Contains("cannot write PNG image '" + stem + ".png': File too large"));
+    CHECK(readBinaryFile(stem + ".png", "PNG") == png);
+    CHECK(leftovers() == std::vector<std::string>{"image.exr", "image.png"});
+    // An output folder that is a file: the reason is named.
+    dir.write("not-a-folder", "text");
+    const ProcessResult misplaced =
+        runNori({"--no-progress", "-o", (dir.path() / "not-a-folder" / "image").string(), scene});
+    CHECK(misplaced.exitCode == 1);
+    CHECK_THAT(misplaced.output, Contains("not-a-folder/image.exr': Not a directory"));
 }

@@ -26,8 +26,11 @@ std::string readBinaryFile(const std::string &path, const std::string &what);
 /// binary file (an image, an EXR passed by mistake) is not one.
 std::string readTextFile(const std::string &path, const std::string &what);
 
-/// Writes `bytes` to `path` (replacing it); throws NoriException naming `what` and
-/// `path` when it cannot.
+/// Writes `bytes` to `path` atomically: to a temporary file in the same folder, flushed to
+/// the disk, then renamed over `path`. When that fails (disk full, file size limit, no
+/// permission) the previous file stays as it was, the temporary file is removed, and a
+/// NoriException names `what`, `path` and the reason. Every file the programs write
+/// (images, render parts, meshes, volumes) goes through here.
 void writeBinaryFile(const std::string &path, const std::string &bytes, const std::string &what);
 /// Writes `text` to `path` unless the file already holds exactly that (so generated
 /// files keep their time stamps); throws NoriException when it cannot.

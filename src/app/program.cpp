@@ -1,12 +1,17 @@
 #include "app/program.h"
 #include <nori/common.h>
 
+#include <csignal>
 #include <cstdio>
 #include <new>
 
 namespace nori {
 
 int runProgram(const std::function<int()> &body, int errorStatus) {
+    // A file size limit (ulimit -f, prlimit --fsize) then ends a write with EFBIG, which
+    // writeBinaryFile reports and recovers from, instead of killing the program with
+    // SIGXFSZ halfway through a file.
+    std::signal(SIGXFSZ, SIG_IGN);
     try {
         return body();
     } catch (const std::bad_alloc &) {

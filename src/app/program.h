@@ -7,7 +7,8 @@
 namespace nori {
 
 /// Runs `body` and returns its exit status; an exception is printed as "Error: ..." on
-/// stderr and turns into `errorStatus` (std::bad_alloc: "out of memory").
+/// stderr and turns into `errorStatus` (std::bad_alloc: "out of memory"). SIGXFSZ is
+/// ignored, so that exceeding a file size limit is a write error, not a kill.
 int runProgram(const std::function<int()> &body, int errorStatus = 1);
 
 } // namespace nori

@@ -3,12 +3,16 @@
 #include <nori/hash.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <sstream>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -98,10 +102,55 @@ std::string readTextFile(const std::string &path, const std::string &what) {
 }
 
 void writeBinaryFile(const std::string &path, const std::string &bytes, const std::string &what) {
-    std::ofstream out(path, std::ios::binary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out)
+    // Written beside the target under a name of its own, made durable, then renamed over
+    // it: rename() within one file system replaces the old file in one step, so a reader
+    // sees the old file or the new one, and a write that fails (disk full, file size
+    // limit, no permission) or a process killed mid-write leaves the old file as it was.
+    const fs::path target(path);
+    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    static std::atomic<uint64_t> counter{0};
+    std::string temporary;
+    int fd = -1;
+    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+        temporary = (folder / fmt::format(".{}.{}-{}.tmp", target.filename().string(),
+                                          static_cast<long>(::getpid()), counter++))
+                        .string();
+        // 0666 before the umask, as a file the program created directly would have.
+        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST)
+            break;
+    }
+    const auto fail = [&](int error) {
+        if (fd >= 0)
+            ::close(fd);
+        ::unlink(temporary.c_str());
+        throw NoriException("cannot write {} '{}': {}", what, path, std::strerror(error));
+    };
+    if (fd < 0)
         throw NoriException("cannot write {} '{}': {}", what, path, std::strerror(errno));
+    size_t written = 0;
+    while (written < bytes.size()) {
+        const ssize_t count = ::write(fd, bytes.data() + written, bytes.size() - written);
+        if (count < 0 && errno == EINTR)
+            continue;
+        if (count <= 0)
+            fail(count < 0 ? errno : ENOSPC);
+        written += size_t(count);
+    }
+    if (::fsync(fd) != 0)
+        fail(errno);
+    const int closed = ::close(fd);
+    fd = -1;
+    if (closed != 0)
+        fail(errno);
+    if (::rename(temporary.c_str(), path.c_str()) != 0)
+        fail(errno);
+    // The rename itself reaches the disk with the folder's entry.
+    const int directory = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (directory >= 0) {
+        ::fsync(directory);
+        ::close(directory);
+    }
 }
 
 void writeFileIfChanged(const std::string &path, const std::string &text) {

@@ -23,6 +23,11 @@ const bool kLittleEndian = [] {
     return first == 1;
 }();
 
+/// stb_image_write's output callback: appends to a std::string.
+void appendBytes(void *context, void *data, int size) {
+    static_cast<std::string *>(context)->append(static_cast<const char *>(data), size_t(size));
+}
+
 } // namespace
 
 Bitmap Bitmap::load(const std::string &filename) {
@@ -72,8 +77,10 @@ void Bitmap::savePNG(const std::string &filename, float exposure, bool srgb) con
                     static_cast<unsigned char>(std::lround(value * 255.0f));
             }
         }
-    if (!stbi_write_png(filename.c_str(), width(), height(), 3, rgb.data(), 3 * width()))
-        throw NoriException("cannot write PNG image '{}'", filename);
+    std::string bytes;
+    if (!stbi_write_png_to_func(appendBytes, &bytes, width(), height(), 3, rgb.data(), 3 * width()))
+        throw NoriException("cannot write PNG image '{}': the encoder failed", filename);
+    writeBinaryFile(filename, bytes, "PNG image");
 }
 
 void Bitmap::saveHDR(const std::string &filename) const {
@@ -86,8 +93,10 @@ void Bitmap::saveHDR(const std::string &filename) const {
                 rgb[3 * (static_cast<size_t>(y) * width() + x) + c] =
                     std::isfinite(value) ? std::max(value, 0.0f) : 0.0f;
             }
-    if (!stbi_write_hdr(filename.c_str(), width(), height(), 3, rgb.data()))
-        throw NoriException("cannot write HDR image '{}'", filename);
+    std::string bytes;
+    if (!stbi_write_hdr_to_func(appendBytes, &bytes, width(), height(), 3, rgb.data()))
+        throw NoriException("cannot write HDR image '{}': the encoder failed", filename);
+    writeBinaryFile(filename, bytes, "HDR image");
 }
 
 namespace {

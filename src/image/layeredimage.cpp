@@ -5,6 +5,7 @@
 #include <tinyexr.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 
 namespace nori {
@@ -151,11 +152,16 @@ void LayeredImage::saveEXR(const std::string &filename) const {
     image.images = reinterpret_cast<unsigned char **>(const_cast<float **>(planes.data()));
 
     const char *error = nullptr;
-    if (SaveEXRImageToFile(&image, &header, filename.c_str(), &error) != TINYEXR_SUCCESS) {
+    unsigned char *memory = nullptr;
+    const size_t size = SaveEXRImageToMemory(&image, &header, &memory, &error);
+    if (size == 0) {
         std::string message = error ? error : "unknown error";
         FreeEXRErrorMessage(error);
         throw NoriException("cannot write EXR image '{}': {}", filename, message);
     }
+    std::string bytes(reinterpret_cast<const char *>(memory), size);
+    std::free(memory); // tinyexr allocates with malloc
+    writeBinaryFile(filename, bytes, "EXR image");
 }
 
 LayeredImage LayeredImage::loadEXR(const std::string &filename) {
