@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the fuzz targets with clang, libFuzzer, ASan and UBSan, and fuzzes each one.
-#   scripts/fuzz.sh [--seconds N] [--build DIR] [xml] [obj] [ply] [serialized] [gltf] [image] [tga]
+#   scripts/fuzz.sh [--seconds N] [--build DIR] [xml] [obj] [ply] [serialized] [gltf] [pbrt] [image] [tga]
 #                   [lens] [volume]
 # Prints libFuzzer's figures (executions, coverage) and exits non-zero when a target
 # crashed, leaked, hit undefined behaviour or threw anything but a NoriException; the
@@ -14,11 +14,11 @@ while (($#)); do
     case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
-    xml | obj | ply | serialized | gltf | image | tga | lens | volume) targets+=("$1"); shift ;;
+    xml | obj | ply | serialized | gltf | pbrt | image | tga | lens | volume) targets+=("$1"); shift ;;
     *) echo "usage: $0 [--seconds N] [--build DIR] [xml] [obj] [image] [lens] [volume]" >&2; exit 2 ;;
     esac
 done
-((${#targets[@]})) || targets=(xml obj ply serialized gltf image tga lens volume)
+((${#targets[@]})) || targets=(xml obj ply serialized gltf pbrt image tga lens volume)
 
 # -O1 as libFuzzer's documentation advises; line tables only, which is all the sanitizers'
 # stack traces need and builds faster than full debug information; assertions on (no NDEBUG).
@@ -46,6 +46,7 @@ fuzz_one() {
     tga) seeds=("$here/tests/fuzz/corpus/tga") ;;
     serialized) seeds=("$here/tests/fuzz/corpus/serialized") ;;
     gltf) seeds=("$here/tests/fuzz/corpus/gltf" "$here/tests/data/meshes") ;;
+    pbrt) seeds=("$here/tests/fuzz/corpus/pbrt") ;;
     lens) seeds=("$here/tests/fuzz/corpus/lens" "$here/scenes/lenses") ;;
     volume) seeds=("$here/tests/fuzz/corpus/volume" "$here/scenes/media") ;;
     esac

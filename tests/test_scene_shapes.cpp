@@ -15,7 +15,6 @@
 #include <nori/shape.h>
 
 #include <catch2/catch.hpp>
-#include <zlib.h>
 
 using namespace nori;
 using namespace nori::testing;
@@ -110,21 +109,6 @@ std::string bigEndianPLY(const MeshData &mesh) {
         bytes.push_back('\x07');
     }
     return bytes;
-}
-
-std::string gzip(const std::string &bytes) {
-    z_stream stream{};
-    REQUIRE(deflateInit2(&stream, Z_BEST_SPEED, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) ==
-            Z_OK);
-    std::string output(deflateBound(&stream, bytes.size()) + 64, '\0');
-    stream.next_in = reinterpret_cast<Bytef *>(const_cast<char *>(bytes.data()));
-    stream.avail_in = static_cast<uInt>(bytes.size());
-    stream.next_out = reinterpret_cast<Bytef *>(output.data());
-    stream.avail_out = static_cast<uInt>(output.size());
-    REQUIRE(deflate(&stream, Z_FINISH) == Z_STREAM_END);
-    output.resize(stream.total_out);
-    deflateEnd(&stream);
-    return output;
 }
 
 std::string sceneWith(const std::string &meshXML) {

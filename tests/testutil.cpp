@@ -10,6 +10,7 @@
 #include <random>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <zlib.h>
 
 namespace nori::testing {
 
@@ -97,6 +98,23 @@ std::shared_ptr<Scene> litFloor(const std::string &integrator, const std::string
     if (!scene)
         throw NoriException("litFloor: not a scene");
     return scene;
+}
+
+std::string gzip(const std::string &bytes) {
+    z_stream stream{};
+    if (deflateInit2(&stream, Z_BEST_SPEED, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+        throw NoriException("gzip: zlib would not start");
+    std::string output(deflateBound(&stream, bytes.size()) + 64, '\0');
+    stream.next_in = reinterpret_cast<Bytef *>(const_cast<char *>(bytes.data()));
+    stream.avail_in = static_cast<uInt>(bytes.size());
+    stream.next_out = reinterpret_cast<Bytef *>(output.data());
+    stream.avail_out = static_cast<uInt>(output.size());
+    const int status = deflate(&stream, Z_FINISH);
+    deflateEnd(&stream);
+    if (status != Z_STREAM_END)
+        throw NoriException("gzip: zlib could not compress {} bytes", bytes.size());
+    output.resize(stream.total_out);
+    return output;
 }
 
 std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &directory) {

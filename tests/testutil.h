@@ -46,6 +46,9 @@ ProcessResult runNori(const std::vector<std::string> &arguments,
 ProcessResult runCommand(const std::string &program, const std::vector<std::string> &arguments,
                          const std::string &interruptAfter = "");
 
+/// `bytes` compressed as a gzip stream (for .ply.gz and .pbrt.gz files made in tests).
+std::string gzip(const std::string &bytes);
+
 /// The scene of an XML text (files relative to `directory`); throws when it is not one.
 std::shared_ptr<Scene> loadScene(const std::string &xml, const std::string &directory = ".");
 
