@@ -16,6 +16,8 @@
 # references are kept and reused between runs (they take minutes); SCENES picks some of
 # cbox, veach and envmap (all by default).
 #   scripts/bench_bdpt.sh [BUILD_DIR] [SECONDS] [ROUNDS] [REFERENCE_SPP] [REFERENCES] [SCENES]
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"

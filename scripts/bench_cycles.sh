@@ -11,6 +11,8 @@
 # the MSE between them, which holds what differs between the two scenes, e.g. the
 # spheres' facets).
 #   scripts/bench_cycles.sh [BUILD_DIR] [SPP] [REFERENCE_SPP] [ROUNDS] [SIZE] [THREADS]
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"

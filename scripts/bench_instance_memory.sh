@@ -6,6 +6,8 @@
 # set (/usr/bin/time's %M) of `nori` for each N over ROUNDS runs (median and range) and
 # the bytes per instance: the difference of the medians over the difference of the N.
 #   scripts/bench_instance_memory.sh [BUILD_DIR] [SMALL_N] [LARGE_N] [ROUNDS]
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"

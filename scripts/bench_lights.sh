@@ -16,6 +16,8 @@
 # light option, REFERENCE_SPP) adds its own error, about SPP/REFERENCE_SPP of an
 # independent render's.
 #   scripts/bench_lights.sh [BUILD_DIR] [SPP] [REFERENCE_SPP] [ROUNDS] [SIZE]
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"

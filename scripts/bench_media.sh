@@ -4,6 +4,8 @@
 # ratio tracking and ray marching at equal samples per pixel, and the render time with
 # the majorant grid against one global majorant (ratio and delta tracking, two densities).
 #   scripts/bench_media.sh [BUILD_DIR] [SPP] [REFERENCE_SPP]
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"

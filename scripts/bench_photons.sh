@@ -4,6 +4,8 @@
 # then its RMSE against a converged path_mis reference is measured over the image and in
 # the caustic under the glass sphere. The reference is rendered once and kept.
 #   scripts/bench_photons.sh [--seconds T] [--reference-spp N] [--build DIR] [--out DIR]
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 
 seconds=30

@@ -133,6 +133,9 @@ def check_symbols(libdir, table):
 
 
 if __name__ == "__main__":
+    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+        sys.exit(0)
     if len(sys.argv) == 4 and sys.argv[1] == "--symbols":
         sys.exit(check_symbols(sys.argv[2], sys.argv[3]))
     if len(sys.argv) != 3:

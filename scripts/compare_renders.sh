@@ -3,6 +3,8 @@
 # images is the same bit for bit: the check of a refactoring that must not change images.
 #   scripts/compare_renders.sh OLD_NORI NEW_NORI [SPP]
 # The Cornell box is also rendered with every surface integrator.
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 old=$1 new=$2 spp=${3:-4}
 root=$(cd "$(dirname "$0")/.." && pwd)

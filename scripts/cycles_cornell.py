@@ -17,7 +17,16 @@ import os
 import sys
 import time
 
-import bpy
+if __name__ == "__main__" and sys.argv[1:2] in (["-h"], ["--help"]):
+    # Outside Blender: the comment above is the help.
+    with open(__file__) as source:
+        for line in source:
+            if not line.startswith("#"):
+                break
+            print(line[2:].rstrip())
+    sys.exit(0)
+
+import bpy  # noqa: E402 (after the help, which needs no Blender)
 
 mesh_dir, output, samples, seed, threads, size = sys.argv[sys.argv.index("--") + 1:][:6]
 bpy.ops.wm.read_factory_settings(use_empty=True)

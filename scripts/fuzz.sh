@@ -5,6 +5,8 @@
 # Prints libFuzzer's figures (executions, coverage) and exits non-zero when a target
 # crashed, leaked, hit undefined behaviour or threw anything but a NoriException; the
 # input that did it is in DIR/artifacts/. New interesting inputs go to DIR/corpus-<target>.
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 seconds=600
@@ -15,7 +17,7 @@ while (($#)); do
     --seconds) seconds="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
     xml | obj | ply | serialized | gltf | pbrt | image | tga | lens | volume) targets+=("$1"); shift ;;
-    *) echo "usage: $0 [--seconds N] [--build DIR] [xml] [obj] [image] [lens] [volume]" >&2; exit 2 ;;
+    *) echo "fuzz.sh: unknown argument '$1' (see fuzz.sh --help)" >&2; exit 2 ;;
     esac
 done
 ((${#targets[@]})) || targets=(xml obj ply serialized gltf pbrt image tga lens volume)

@@ -4,6 +4,8 @@
 #   scripts/install-deps.sh          what building and rendering need
 #   scripts/install-deps.sh --test   also the test tools: Catch2, clang with libFuzzer, Slurm,
 #                                    Chromium, Blender
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 
 packages=(

@@ -3,6 +3,8 @@
 # OUT.png. Parts that are not there are left off the list, so that `nori merge` names
 # them; it refuses to merge then, unless --allow-missing is among the options.
 #   merge.sh NORI N OUTDIR OUT [nori merge options...]
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 nori=$1 parts=$2 outdir=$3 out=$4
 shift 4

@@ -4,6 +4,8 @@
 #   part.sh NORI SCENE N OUTDIR [nori options...]
 # Writes OUTDIR/part-K.exr (and .png). Threads: Slurm's --cpus-per-task, else NORI_THREADS,
 # else 1.
+# --help (or -h) prints the comment above and exits.
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 set -euo pipefail
 nori=$1 scene=$2 parts=$3 outdir=$4
 shift 4

@@ -23,7 +23,13 @@
 # with --tasks K, which submits a new merge job.
 set -euo pipefail
 
+# The comment above: on stdout with status 0 when asked for (--help), on stderr with 2
+# after a mistake.
 usage() {
+    if [ "${1:-}" = asked ]; then
+        sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
+        exit 0
+    fi
     sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//' >&2
     exit 2
 }
@@ -39,7 +45,7 @@ while (($# > 0)); do
     --nori) nori=${2:?--nori needs a path}; shift 2 ;;
     --tasks) tasks=${2:?--tasks needs a list}; shift 2 ;;
     --local) local=1; shift ;;
-    -h | --help) usage ;;
+    -h | --help) usage asked ;;
     --) shift; nori_options=("$@"); break ;;
     -*) sbatch_options+=("$1"); shift ;;
     *)
