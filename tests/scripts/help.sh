@@ -3,12 +3,12 @@
 # (issue 76: render.sh --help used to exit 2).
 #   tests/scripts/help.sh ROOT
 set -uo pipefail
-root=${1:?the repository's root}
+root=${1:?the root of the repository}
 status=0
 while IFS= read -r script; do
     case $script in
-    *.py) output=$(python3 "$script" --help 2> /dev/null < /dev/null) ;;
-    *) output=$(bash "$script" --help 2> /dev/null < /dev/null) ;;
+    (*.py) output=$(python3 "$script" --help 2> /dev/null < /dev/null) ;;
+    (*) output=$(bash "$script" --help 2> /dev/null < /dev/null) ;;
     esac
     code=$?
     if [ $code -ne 0 ] || [ -z "$output" ]; then
