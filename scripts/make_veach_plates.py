@@ -5,6 +5,7 @@ that the camera sees the row of lights mirrored in it (its normal is the half ve
 between the directions to the camera and to the centre of the lights)."""
 import math
 import os
+import sys
 
 CAMERA = (0.0, 2.0, 15.0)
 LIGHTS_CENTRE = (0.0, 1.5, -1.0)
@@ -53,4 +54,7 @@ def main():
 
 
 if __name__ == "__main__":
+    if sys.argv[1:2] in (["-h"], ["--help"]):
+        print(__doc__)
+        sys.exit(0)
     main()
