@@ -1,7 +1,9 @@
 /*
  * gltf — the surfaces of a glTF 2.0 asset (.gltf or .glb, read by gltffile.h): every
  * triangle primitive of its default scene, placed by its nodes' transforms and then by
- * `toWorld`, each a mesh of its own with its material mapped onto ours:
+ * `toWorld`, each a mesh of its own with its material mapped onto ours.
+ *
+ * The mapping:
  *   - metallic-roughness (glTF 2.0 §3.9.2) onto `disney`: baseColor = baseColorFactor ×
  *     baseColorTexture (sRGB), metallic and roughness = their factors × the B and G
  *     channels of metallicRoughnessTexture, specular 0.5 (F0 = 0.04, glTF's dielectric
