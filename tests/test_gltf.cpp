@@ -161,6 +161,15 @@ std::string frontView(const std::string &meshes, const std::string &integrator =
                        integrator, spp, size, size, meshes);
 }
 
+/// The front view of the asset `file` in `folder`, the gltf shape given `parameters`.
+std::shared_ptr<Scene> gltfScene(const TempDir &folder, const std::string &file,
+                                 const std::string &parameters = "") {
+    return loadScene(
+        frontView(fmt::format(R"(<mesh type="gltf"><string name="filename" value="{}"/>{}</mesh>)",
+                              file, parameters)),
+        folder.path().string());
+}
+
 const Mesh &onlyPart(const Scene &scene) {
     REQUIRE(scene.getShapes().size() == 1);
     const auto *mesh = dynamic_cast<const Mesh *>(scene.getShapes().front().get());
@@ -263,10 +272,7 @@ TEST_CASE("glTF materials become the disney BSDF the same parameters give in XML
         imageView);
     const auto bsdfOf = [&](int material) {
         folder.write("m.glb", asset.glb(quadScene(material) + "," + materials));
-        const auto scene = loadScene(
-            frontView(R"(<mesh type="gltf"><string name="filename" value="m.glb"/></mesh>)"),
-            folder.path().string());
-        return onlyPart(*scene).getBSDFPtr();
+        return onlyPart(*gltfScene(folder, "m.glb")).getBSDFPtr();
     };
     const auto disney = [&](const std::string &parameters) {
         const auto scene = loadScene(frontView(fmt::format(
@@ -324,9 +330,7 @@ TEST_CASE("glTF emission is an area light; textures keep their orientation and s
         "textures":[{{"source":0,"sampler":0}}])",
                                    imageView);
     folder.write("light.glb", asset.glb(rest));
-    const auto scene = loadScene(
-        frontView(R"(<mesh type="gltf"><string name="filename" value="light.glb"/></mesh>)"),
-        folder.path().string());
+    const auto scene = gltfScene(folder, "light.glb");
     REQUIRE(scene->getEmitters().size() == 1);
     const Bitmap image = renderScene(*scene, quietOptions(2)).image;
     // Each pixel sees one texel (nearest) through a black, non-reflecting surface: its
@@ -337,10 +341,7 @@ TEST_CASE("glTF emission is an area light; textures keep their orientation and s
     CHECK(image(1, 0).isApprox(Color3f(0, 0, 1) * scale, 1e-4f));
     CHECK(image(1, 1).isApprox(Color3f(1, 1, 1) * scale, 1e-4f));
     // emissionScale 0 turns the light off.
-    const auto dark =
-        loadScene(frontView(R"(<mesh type="gltf"><string name="filename" value="light.glb"/>
-            <float name="emissionScale" value="0"/></mesh>)"),
-                  folder.path().string());
+    const auto dark = gltfScene(folder, "light.glb", R"(<float name="emissionScale" value="0"/>)");
     CHECK(dark->getEmitters().empty());
 }
 
@@ -359,9 +360,7 @@ TEST_CASE("glTF alpha: MASK cuts at alphaCutoff, BLEND is the alpha itself",
             "samplers":[{{"magFilter":9728}}],"textures":[{{"source":0,"sampler":0}}])",
                                        mode, imageView);
         folder.write("alpha.glb", asset.glb(rest));
-        const auto scene = loadScene(
-            frontView(R"(<mesh type="gltf"><string name="filename" value="alpha.glb"/></mesh>)"),
-            folder.path().string());
+        const auto scene = gltfScene(folder, "alpha.glb");
         const Mesh &mesh = onlyPart(*scene);
         std::vector<float> opacity;
         // Texel centres in our uv (origin bottom-left): top-left, top-right, bottom-left,

@@ -172,6 +172,20 @@ private:
         return e;
     }
 
+    /// The entity of MakeNamedMaterial or MakeNamedMedium: its type is its "string type"
+    /// parameter (taken out of the list), its name the directive's argument.
+    Entity namedEntity(const Directive &d, const char *target) const {
+        Entity e = entity(d, target);
+        const Parameter *type = e.find("type");
+        if (!type || type->type != "string" || type->strings.size() != 1)
+            fail(d, fmt::format("{} '{}' needs a \"string type\"", d.name, d.strings[0]));
+        e.type = type->strings[0];
+        e.parameters.erase(std::remove_if(e.parameters.begin(), e.parameters.end(),
+                                          [](const Parameter &p) { return p.name == "type"; }),
+                           e.parameters.end());
+        return e;
+    }
+
     // ---- Transforms ---------------------------------------------------------------------
 
     template <typename F> void forActive(F &&change) {
@@ -392,16 +406,8 @@ private:
         if (m_scene.namedMaterials.count(name))
             fail(d, fmt::format("named material '{}' is defined twice", name));
         MaterialEntity material;
-        static_cast<Entity &>(material) = entity(d, "material");
+        static_cast<Entity &>(material) = namedEntity(d, "material");
         material.name = name;
-        const Parameter *type = material.find("type");
-        if (!type || type->type != "string" || type->strings.size() != 1)
-            fail(d, fmt::format("MakeNamedMaterial '{}' needs a \"string type\"", name));
-        material.type = type->strings[0];
-        material.parameters.erase(
-            std::remove_if(material.parameters.begin(), material.parameters.end(),
-                           [](const Parameter &p) { return p.name == "type"; }),
-            material.parameters.end());
         m_scene.namedMaterials.emplace(name, std::move(material));
     }
 
@@ -440,15 +446,8 @@ private:
             if (other.name == name)
                 fail(d, fmt::format("named medium '{}' is defined twice", name));
         MediumEntity medium;
-        static_cast<Entity &>(medium) = entity(d, "medium");
+        static_cast<Entity &>(medium) = namedEntity(d, "medium");
         medium.name = name;
-        const Parameter *type = medium.find("type");
-        if (!type || type->type != "string" || type->strings.size() != 1)
-            fail(d, fmt::format("MakeNamedMedium '{}' needs a \"string type\"", name));
-        medium.type = type->strings[0];
-        medium.parameters.erase(std::remove_if(medium.parameters.begin(), medium.parameters.end(),
-                                               [](const Parameter &p) { return p.name == "type"; }),
-                                medium.parameters.end());
         medium.toWorld = placement(d);
         m_scene.media.push_back(std::move(medium));
     }

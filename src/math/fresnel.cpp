@@ -150,15 +150,15 @@ void lookupConductor(const std::string &name, Color3f &eta, Color3f &k) {
     using spectraldata::kMitsubaConductorCount;
     using spectraldata::kMitsubaConductors;
     const auto *end = kMitsubaConductors + kMitsubaConductorCount;
-    const auto *measured = std::find_if(kMitsubaConductors, end, [&](const auto &conductor) {
-        return name == conductor.name;
-    });
+    const auto *measured = std::find_if(
+        kMitsubaConductors, end, [&](const auto &conductor) { return name == conductor.name; });
     if (measured != end) {
         toRGB(heldAtItsEnds(measured->eta, measured->etaSize),
               heldAtItsEnds(measured->k, measured->kSize));
         return;
     }
     std::vector<std::string> names;
+    names.reserve(kMetals.size() + kPbrtSpectral.size() + kMitsubaConductorCount);
     for (const auto &metal : kMetals)
         names.push_back(metal.first);
     names.insert(names.end(), kPbrtSpectral.begin(), kPbrtSpectral.end());
