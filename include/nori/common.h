@@ -201,6 +201,9 @@ template <typename Scalar, int Dim> struct TPoint;
 using Vector3f = TVector<float, 3>;
 using Point2f = TPoint<float, 2>;
 
+// Defined in nori's own headers; libraries with classes of the same names (tinygltf's
+// Camera, Mesh, Sampler, Scene) make clang-tidy suspect the wrong namespace.
+// NOLINTBEGIN(bugprone-forward-declaration-namespace)
 class Accel;
 class BSDF;
 class Bitmap;
@@ -217,6 +220,7 @@ class PhaseFunction;
 class ReconstructionFilter;
 class Sampler;
 class Scene;
+// NOLINTEND(bugprone-forward-declaration-namespace)
 
 using std::cerr;
 using std::cout;

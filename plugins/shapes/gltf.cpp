@@ -64,7 +64,8 @@ public:
         bool normalMap = false;
     };
 
-    GltfTexture(std::shared_ptr<const MIPMap> image, const GltfTextureRef &ref, Options options)
+    GltfTexture(std::shared_ptr<const MIPMap> image, const GltfTextureRef &ref,
+                const Options &options)
         : m_image(std::move(image)), m_ref(ref), m_options(options) {
         const float c = std::cos(ref.rotation), s = std::sin(ref.rotation);
         // KHR_texture_transform: st = offset + R · (scale ⊙ uv), R a rotation by −rotation

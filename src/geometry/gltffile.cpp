@@ -624,8 +624,9 @@ bool keepEncodedImage(tinygltf::Image *image, const int, std::string *, std::str
 /// File access for tinygltf: plain reads relative to the asset (no shell expansion of
 /// names, which tinygltf's default does with wordexp), or none at all.
 tinygltf::FsCallbacks fileCallbacks(bool allowFiles) {
+    static bool allowed = true; // its address, as user_data, says files may be read
     tinygltf::FsCallbacks callbacks{};
-    callbacks.user_data = reinterpret_cast<void *>(allowFiles ? 1 : 0);
+    callbacks.user_data = allowFiles ? &allowed : nullptr;
     callbacks.FileExists = [](const std::string &path, void *allow) {
         std::error_code error;
         return allow != nullptr && std::filesystem::is_regular_file(path, error);

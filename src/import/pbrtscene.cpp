@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <set>
 
 namespace nori::pbrt {
@@ -23,8 +24,8 @@ namespace {
 
 /// pbrt-v4's GraphicsState: what AttributeBegin saves and AttributeEnd restores.
 struct GraphicsState {
-    Matrix ctm[2] = {Matrix::Identity(), Matrix::Identity()}; ///< start and end time
-    bool active[2] = {true, true};
+    std::array<Matrix, 2> ctm = {Matrix::Identity(), Matrix::Identity()}; ///< start, end time
+    std::array<bool, 2> active = {true, true};
     bool reverseOrientation = false;
     int material = 0; ///< the anonymous material, when `namedMaterial` is empty
     std::string namedMaterial;
@@ -243,7 +244,7 @@ private:
     }
     void transform(const Directive &d) {
         const Matrix m = fromColumns(d.numbers);
-        forActive([&](const Matrix &) { return m; });
+        forActive([&](const Matrix &) -> Matrix { return m; });
     }
     void concatTransform(const Directive &d) {
         const Matrix m = fromColumns(d.numbers);
