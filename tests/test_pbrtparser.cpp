@@ -145,7 +145,8 @@ TEST_CASE("Malformed pbrt-v4 files are errors at file:line:column", "[pbrt][pars
         {"Shape \"x\" \"string s\" \"a\\qb\"", "unknown escape '\\q'"},
         {"LookAt 0 0 0\n  0 0 -1\n  0 1", "scene.pbrt:3:5: the file ends in the middle"},
     };
-    for (const auto &[text, message] : cases) {
+    for (const auto &entry : cases) {
+        const std::string &text = entry.first, &message = entry.second;
         INFO(text);
         CHECK_THAT(errorOf([&] { parse(text); }), Contains(message));
     }

@@ -182,7 +182,8 @@ TEST_CASE("What pbrt-v4 rejects is an error where it stands", "[pbrt][scene][err
         {"WorldBegin\nObjectBegin \"a\"\nAttributeEnd", "AttributeEnd inside the ObjectBegin"},
         {"WorldBegin\nTexture \"t\" \"color\" \"constant\"", "\"float\" or \"spectrum\""},
     };
-    for (const auto &[text, message] : cases) {
+    for (const auto &entry : cases) {
+        const std::string &text = entry.first, &message = entry.second;
         INFO(text);
         CHECK_THAT(errorOf([&] { pbrt::readSceneString(text, "scene.pbrt"); }), Contains(message));
     }

@@ -244,7 +244,9 @@ private:
     }
     void transform(const Directive &d) {
         const Matrix m = fromColumns(d.numbers);
-        forActive([&](const Matrix &) -> Matrix { return m; });
+        for (size_t i = 0; i < 2; ++i)
+            if (m_state.active[i])
+                m_state.ctm[i] = m;
     }
     void concatTransform(const Directive &d) {
         const Matrix m = fromColumns(d.numbers);
