@@ -22,6 +22,7 @@ std::vector<pbrt::Directive> parse(const std::string &text) {
 
 std::vector<std::string> names(const std::vector<pbrt::Directive> &directives) {
     std::vector<std::string> out;
+    out.reserve(directives.size());
     for (const auto &d : directives)
         out.push_back(d.name);
     return out;
