@@ -237,3 +237,53 @@ TEST_CASE("Cancelling keeps the finished passes: a whole frame at fewer samples"
             allOne &= result.image(y, x).isApprox(Color3f(1.0f));
     CHECK(allOne);
 }
+
+TEST_CASE("A scene without lights renders black with every light-sampling integrator",
+          "[render][integrator]") {
+    // pbrt-v4 files may have no light; the light tree then has nothing to walk.
+    for (const char *integrator : {"direct", "path", "path_mis", "volpath", "bdpt", "lighttracer"}) {
+        INFO(integrator);
+        const std::shared_ptr<Scene> scene = loadScene(fmt::format(R"(<scene>
+            <integrator type="{}"/>
+            <sampler type="independent"><integer name="sampleCount" value="2"/></sampler>
+            <camera type="perspective"><integer name="width" value="8"/>
+                <integer name="height" value="8"/>
+                <transform name="toWorld"><lookat origin="0, 0, 4" target="0, 0, 0"/></transform>
+            </camera>
+            <mesh type="sphere"><bsdf type="diffuse"/></mesh>
+        </scene>)",
+                                                                   integrator));
+        const Bitmap image = renderScene(*scene, quietOptions(2)).layers.layer("");
+        CHECK((image.unaryExpr([](const Color3f &c) { return c.maxCoeff(); }) == 0.0f).all());
+    }
+}
+
+TEST_CASE("sampleBorder lets edge pixels see past the image's edge through their filter",
+          "[render][camera]") {
+    // A black square fills the image exactly (fov 90° at distance 1), a white sky lies
+    // beyond it: the filter cut at the edge sees only black, the whole filter (pbrt-v4's
+    // film) reaches the sky from the edge pixels, and not from the middle ones.
+    for (const bool border : {false, true}) {
+        INFO("sampleBorder " << border);
+        const std::shared_ptr<Scene> scene = loadScene(fmt::format(R"(<scene>
+            <integrator type="path"/>
+            <sampler type="independent"><integer name="sampleCount" value="64"/></sampler>
+            <camera type="perspective"><integer name="width" value="8"/>
+                <integer name="height" value="8"/> <float name="fov" value="90"/>
+                <boolean name="sampleBorder" value="{}"/>
+                <transform name="toWorld"><lookat origin="0, 0, 0" target="0, 0, 1"/></transform>
+                <rfilter type="gaussian"/>
+            </camera>
+            <emitter type="constant"><color name="radiance" value="1"/></emitter>
+            <mesh type="rectangle"><bsdf type="diffuse"><color name="albedo" value="0"/></bsdf>
+                <transform name="toWorld"><translate value="0, 0, 1"/></transform></mesh>
+        </scene>)",
+                                                                   border));
+        const Bitmap image = renderScene(*scene, quietOptions(2)).layers.layer("");
+        CHECK(image(3, 3).maxCoeff() == 0.0f);
+        if (border)
+            CHECK(image(0, 3).minCoeff() > 0.02f);
+        else
+            CHECK(image(0, 3).maxCoeff() == 0.0f);
+    }
+}

@@ -71,6 +71,12 @@ public:
 
     const Vector2i &getOutputSize() const { return m_outputSize; }
     const ReconstructionFilter *getReconstructionFilter() const { return m_rfilter.get(); }
+    /// Whether a pixel at the image's edge sees the scene beyond the edge through its
+    /// filter (the `sampleBorder` parameter), as pbrt-v4's film and Mitsuba 3's
+    /// sample_border have it; by default the filter is cut at the edge. Integrators that
+    /// do not splat then sample each pixel from its whole filter (filter importance
+    /// sampling); those that splat (light tracing, bdpt) keep the cut filter.
+    bool samplesBorder() const { return m_sampleBorder; }
     /// The medium the camera sits in (a <medium> child), or nullptr for vacuum.
     const Medium *getMedium() const { return m_medium.get(); }
 
@@ -100,10 +106,15 @@ protected:
     static const char *conventionName(Convention convention) {
         return convention == Convention::EPFL ? "epfl" : "eth";
     }
+    /// Reads `sampleBorder` (see samplesBorder).
+    void readSampleBorder(const PropertyList &props) {
+        m_sampleBorder = props.getBoolean("sampleBorder", false);
+    }
 
     Vector2i m_outputSize;
     std::shared_ptr<ReconstructionFilter> m_rfilter;
     std::shared_ptr<Medium> m_medium;
+    bool m_sampleBorder = false;
 };
 
 } // namespace nori

@@ -19,6 +19,8 @@
  *   apertureRadius, lensRadius  float  0  radius of the lens; 0 is a pinhole (the same
  *                                     images); lensRadius: pbrt's and the courses' name
  *   focalDistance   float  10        distance (along the view axis) of the sharp plane
+ *   sampleBorder    boolean  false   edge pixels see beyond the image's edge through their
+ *                                    filter (pbrt-v4's film; see camera.h)
  *
  * Also registered as: thinlens.
  *
@@ -48,6 +50,7 @@ public:
         m_farClip = props.getFloat("farClip", 1e4f);
         m_cameraToWorld = props.getTransform("toWorld", Transform());
         m_convention = readConvention(props);
+        readSampleBorder(props);
         m_apertureRadius = props.getFloat(props.spelling("apertureRadius", {"lensRadius"}), 0.0f);
         m_focalDistance = props.getFloat("focalDistance", 10.0f);
         if (!(m_apertureRadius >= 0.0f) || !std::isfinite(m_apertureRadius))

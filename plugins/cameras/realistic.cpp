@@ -26,6 +26,8 @@
  *   height            integer    720         image height in pixels
  *   toWorld           transform  identity    camera-to-world transform
  *   convention        string     "epfl"      image x mirrored ("epfl") or not ("eth")
+ *   sampleBorder      boolean    false       edge pixels see beyond the image's edge
+ *                                            through their filter (pbrt-v4's film)
  *
  *   <camera type="realistic">
  *       <string name="lensFile" value="scenes/lenses/dgauss.50mm.dat"/>
@@ -54,6 +56,7 @@ public:
         m_outputSize.x() = props.getInteger("width", 1280);
         m_outputSize.y() = props.getInteger("height", 720);
         m_cameraToWorld = props.getTransform("toWorld", Transform());
+        readSampleBorder(props);
         m_convention = readConvention(props);
 
         if (props.has("apertureDiameter") &&

@@ -49,8 +49,12 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
     // edge of a light). The samples of an integrator that splats go to the SplatBuffer,
     // which divides by the filter's integral instead of the sum of weights: uniform
     // positions there.
+    // A camera that samples beyond the image's border (pbrt-v4's film) takes each pixel's
+    // samples from its whole filter, past the edge.
+    const bool sampleBorder = scene.getCamera()->samplesBorder();
     const bool importanceSampleFilter =
-        !splatting && (options.filterImportanceSampling || sampler.getMaxTolerance() > 0.0f);
+        !splatting && (options.filterImportanceSampling || sampler.getMaxTolerance() > 0.0f ||
+                       sampleBorder);
     std::vector<Splat> sampleSplats;
     sampler.prepare(pass.beauty());
     if (decisionSampler)
@@ -71,13 +75,16 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
         generator.generate(pixel, index);
         Sample sample;
         // Filter importance sampling keeps positions inside the image, where splatting
-        // takes its samples: an edge pixel sees the filter cut at the edge either way.
+        // takes its samples: an edge pixel sees the filter cut at the edge either way,
+        // unless the camera samples its border.
         const Point2f centre = pixel.cast<float>() + Point2f(0.5f, 0.5f);
-        sample.position =
-            importanceSampleFilter
-                ? Point2f(centre + filterSampler.sample(generator.next2D(), sample.filterSign,
-                                                        -centre, imageSize - centre))
-                : Point2f(pixel.cast<float>() + generator.next2D());
+        if (!importanceSampleFilter)
+            sample.position = Point2f(pixel.cast<float>() + generator.next2D());
+        else if (sampleBorder)
+            sample.position = Point2f(centre + filterSampler.sample(generator.next2D(), sample.filterSign));
+        else
+            sample.position = Point2f(centre + filterSampler.sample(generator.next2D(), sample.filterSign,
+                                                                    -centre, imageSize - centre));
         const Point2f apertureSample = generator.next2D();
         Ray3f ray;
         sample.value = scene.sampleCameraRay(ray, sample.position, apertureSample);

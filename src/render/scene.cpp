@@ -160,7 +160,10 @@ float Scene::emitterPmf(const Emitter *emitter) const {
 
 const Emitter *Scene::sampleEmitter(const Point3f &p, const Normal3f &n, float &u,
                                     float &pmf) const {
-    return m_lightsByPower ? sampleEmitter(u, pmf) : m_lightTree.sample(p, n, u, pmf);
+    // A scene without lights (a pbrt-v4 file may have none) has no tree to walk.
+    if (m_lightsByPower || m_emitters.empty())
+        return sampleEmitter(u, pmf);
+    return m_lightTree.sample(p, n, u, pmf);
 }
 
 float Scene::emitterPmf(const Point3f &p, const Normal3f &n, const Emitter *emitter) const {
