@@ -12,6 +12,7 @@
 #include <nori/aov.h>
 #include <nori/filesystem.h>
 #include <nori/parser.h>
+#include <nori/pbrtimport.h>
 #include <nori/plugindoc.h>
 #include <nori/render.h>
 #include <nori/scene.h>
@@ -27,6 +28,7 @@
 #include <optional>
 #include <set>
 #include <signal.h>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 using namespace nori;
@@ -98,6 +100,8 @@ struct Options {
     PluginTestOptions pluginTest;
     std::optional<PartSpec> part;
     bool merge = false; ///< `nori merge`: merge `parts` into `output`
+    bool convert = false; ///< `nori convert`: write `convertInput` as our XML into `output`
+    std::string convertInput;
     std::vector<std::string> parts;
     bool allowMissing = false;
     std::vector<std::string> renderOnlyFlags; ///< given flags that merge does not take
@@ -147,7 +151,8 @@ std::vector<std::string> attachPreviewPorts(int argc, char **argv) {
 /// The options of `nori` and of `nori merge`, bound to `options` and `texts`.
 void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
     app.footer(kFooter);
-    app.add_option("file", options.sceneFile, "the scene or test file (.xml)");
+    app.add_option("file", options.sceneFile,
+                   "the scene or test file (.xml), or a pbrt-v4 scene (.pbrt, .pbrt.gz)");
     app.add_option("-D", texts.defines,
                    "define $name for the XML file (wins over <default>); repeatable")
         ->type_name("name=value")
@@ -239,6 +244,14 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
     merge->fallthrough();
     merge->callback([&options] { options.merge = true; });
     app.add_flag("--allow-missing", options.allowMissing, "(nori merge's)")->group("");
+
+    CLI::App *convert = app.add_subcommand(
+        "convert", "write a pbrt-v4 scene (.pbrt, .pbrt.gz) as our XML: OUT.xml, with its large "
+                   "inline meshes as PLY files in OUT_meshes/ (docs/pbrt-scenes.md)");
+    convert->footer("");
+    convert->add_option("scene", options.convertInput, "the pbrt-v4 file")->type_name("SCENE.pbrt");
+    convert->add_option("-o,--output", options.output, "the XML file to write")->type_name("OUT.xml");
+    convert->callback([&options] { options.convert = true; });
 }
 
 /// Checks and converts the options given as text; throws NoriException naming the
@@ -515,6 +528,81 @@ int mergeCommand(const Options &options) {
     return 0;
 }
 
+/// A folder of its own under the system's temporary folder, removed with everything in it
+/// when this goes out of scope.
+class TemporaryFolder {
+public:
+    TemporaryFolder() {
+        static std::atomic<int> counter{0};
+        m_path = fs::temp_directory_path() / fmt::format("nori-{}-{}", getpid(), counter++);
+    }
+    ~TemporaryFolder() {
+        std::error_code ignored;
+        fs::remove_all(m_path, ignored);
+    }
+    TemporaryFolder(const TemporaryFolder &) = delete;
+    TemporaryFolder &operator=(const TemporaryFolder &) = delete;
+    std::string path() const { return m_path.string(); }
+
+private:
+    fs::path m_path;
+};
+
+void printWarnings(const std::vector<std::string> &warnings) {
+    for (const std::string &warning : warnings)
+        fmt::print(stderr, "Warning: {}\n", warning);
+}
+
+/// Loads our XML, or a pbrt-v4 file through the importer (its XML loaded from memory, the
+/// grids it writes kept in a temporary folder until the load has read them). `outputName`
+/// receives a pbrt-v4 film's filename.
+std::shared_ptr<NoriObject> loadSceneFile(const std::string &file, const LoadOptions &loadOptions,
+                                          std::string &outputName) {
+    if (!pbrt::isPbrtFile(file))
+        return loadFromXML(file, loadOptions);
+    const TemporaryFolder sideFiles;
+    pbrt::ConvertOptions convertOptions;
+    const std::string folder = fs::path(file).parent_path().string();
+    convertOptions.xmlDirectory = folder.empty() ? "." : folder;
+    convertOptions.sideFileDirectory = sideFiles.path();
+    const pbrt::Conversion conversion = pbrt::convertFile(file, convertOptions);
+    printWarnings(conversion.warnings);
+    outputName = conversion.outputName;
+    return loadFromXMLString(conversion.xml, convertOptions.xmlDirectory, loadOptions);
+}
+
+/// `nori convert SCENE.pbrt -o OUT.xml`: our XML, large inline meshes as PLY files beside it.
+int convertCommand(const Options &options) {
+    if (options.convertInput.empty())
+        throw NoriException("convert: no pbrt-v4 file given (nori convert SCENE.pbrt -o OUT.xml)");
+    if (!pbrt::isPbrtFile(options.convertInput))
+        throw NoriException("convert: '{}' is not a pbrt-v4 file (.pbrt or .pbrt.gz)",
+                            options.convertInput);
+    if (options.output.empty())
+        throw NoriException("convert: no output given (-o OUT.xml)");
+    fs::path output(options.output);
+    if (toLower(output.extension().string()) != ".xml")
+        output += ".xml";
+    pbrt::ConvertOptions convertOptions;
+    const std::string folder = output.parent_path().string();
+    convertOptions.xmlDirectory = folder.empty() ? "." : folder;
+    convertOptions.inlineVertexLimit = 256;
+    convertOptions.sideFileDirectory =
+        (output.parent_path() / (output.stem().string() + "_meshes")).string();
+    const pbrt::Conversion conversion = pbrt::convertFile(options.convertInput, convertOptions);
+    printWarnings(conversion.warnings);
+    if (!output.parent_path().empty())
+        fs::create_directories(output.parent_path());
+    writeBinaryFile(output.string(), conversion.xml, "the converted scene");
+    fmt::print(stderr, "Wrote {}{}\n", output.string(),
+               conversion.sideFiles.empty()
+                   ? std::string()
+                   : fmt::format(" and {} file{} in {}", conversion.sideFiles.size(),
+                                 conversion.sideFiles.size() > 1 ? "s" : "",
+                                 convertOptions.sideFileDirectory));
+    return 0;
+}
+
 /// Loads the scene or test file and renders or runs it; shows it on `preview` (may be null).
 int loadAndRun(const Options &options, PreviewServer *preview) {
     LoadOptions loadOptions(options.defines);
@@ -524,7 +612,8 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
     std::optional<ReadFileRecorder> readFiles; // for the scene hash of a split render
     if (options.part)
         readFiles.emplace();
-    std::shared_ptr<NoriObject> root = loadFromXML(options.sceneFile, loadOptions);
+    std::string outputName;
+    std::shared_ptr<NoriObject> root = loadSceneFile(options.sceneFile, loadOptions, outputName);
     const std::string hash =
         readFiles ? sceneHash(readFiles->digests(), options.defines, options.cameraConvention)
                   : std::string();
@@ -557,6 +646,14 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
     }
     if (auto scene = std::dynamic_pointer_cast<Scene>(root)) {
         catchInterrupt();
+        if (options.output.empty() && !outputName.empty()) {
+            // A pbrt-v4 film's filename names the output, next to the scene file as ours are.
+            Options named = options;
+            named.output = (fs::path(options.sceneFile).parent_path() /
+                            fs::path(outputName).filename().replace_extension())
+                               .string();
+            return renderToFiles(*scene, named, hash, preview);
+        }
         return renderToFiles(*scene, options, hash, preview);
     }
     throw NoriException("{}: the root element must be a <scene> or a <test>, not a {}",
@@ -640,6 +737,12 @@ int run(Options &options) {
             throw NoriException("merge: {} applies to rendering, not to merging parts",
                                 options.renderOnlyFlags.front());
         return mergeCommand(options);
+    }
+    if (options.convert) {
+        if (!options.renderOnlyFlags.empty())
+            throw NoriException("convert: {} applies to rendering, not to converting",
+                                options.renderOnlyFlags.front());
+        return convertCommand(options);
     }
     if (options.allowMissing)
         throw NoriException("--allow-missing applies to `nori merge`, not to rendering");
