@@ -288,3 +288,34 @@ TEST_CASE("a broken .pbrt file is a located error and a non-zero exit", "[pbrt][
     CHECK(result.exitCode != 0);
     CHECK_THAT(result.output, Contains("broken.pbrt:3:") && Contains("reflectance"));
 }
+
+TEST_CASE("pbrt-v4 textures map onto ours", "[pbrt][import]") {
+    const std::string xml = importPbrt(R"(
+Texture "checks" "spectrum" "checkerboard" "float uscale" [4] "float vscale" [2]
+  "rgb tex1" [0.8 0.8 0.8] "rgb tex2" [0.1 0.2 0.3]
+Texture "photo" "spectrum" "imagemap" "string filename" "photo.png"
+Texture "hdr" "spectrum" "imagemap" "string filename" "sky.exr" "float scale" [2]
+Texture "rough" "float" "imagemap" "string filename" "rough.png" "bool invert" true
+Material "diffuse" "texture reflectance" "checks"
+Shape "sphere"
+Material "diffuse" "texture reflectance" "photo"
+Shape "sphere"
+Material "diffuse" "texture reflectance" "hdr"
+Shape "sphere"
+Material "conductor" "texture roughness" "rough" "bool remaproughness" false
+Shape "sphere"
+)")
+                                .xml;
+    // The checkerboard: tex1 on even cells of s = 4u, t = 2v.
+    CHECK_THAT(xml, Contains("type=\"checkerboard_float\"") && Contains("\"0.25, 0.5\""));
+    // pbrt-v4 decodes PNG from sRGB and anything else as linear.
+    const size_t photo = xml.find("photo.png"), sky = xml.find("sky.exr");
+    REQUIRE(photo != std::string::npos);
+    REQUIRE(sky != std::string::npos);
+    CHECK(xml.find("\"srgb\"", photo) < xml.find("\"linear\"", photo));
+    CHECK(xml.find("\"linear\"", sky) < xml.find("</texture>", sky));
+    // scale wraps the image; invert is 1 − x as a mix of 1 and 0.
+    CHECK_THAT(xml, Contains("type=\"scale\"") && Contains("type=\"mix\""));
+    // Textures are declared before the shapes that refer to them, and load.
+    CHECK(xml.find("id=\"texture:checks\"") < xml.find("<!-- shapes and lights -->"));
+}

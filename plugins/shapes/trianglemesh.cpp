@@ -72,7 +72,7 @@ std::vector<Number> readNumbers(const std::string &text, const std::string &what
         if (end == cursor || errno == ERANGE)
             throw NoriException("trianglemesh: '{}' holds \"{}\" at number {}, which is not a "
                                 "{}",
-                                what, std::string(cursor, std::min<size_t>(16, strlen(cursor))),
+                                what, std::string(cursor, strcspn(cursor, " ,\t\r\n")),
                                 numbers.size() + 1,
                                 std::is_integral_v<Number> ? "vertex index" : "number");
         numbers.push_back(value);

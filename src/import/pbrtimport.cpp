@@ -309,6 +309,10 @@ public:
             m_media.emplace(scene.media[i].name, i);
         for (const std::string &line : scene.warnings)
             m_result.warnings.push_back(line);
+        for (const auto &[name, values] : scene.options)
+            m_result.warnings.push_back(fmt::format(
+                "Option \"{}\": not applied (pbrt-v4's command-line options do not carry over)",
+                name));
     }
 
     Conversion run() {
@@ -392,6 +396,7 @@ private:
                                fmt::format("film resolution {} × {} is not positive", m_width,
                                            m_height));
         m_result.outputName = film.getString("filename", "");
+        m_filmDiagonal = film.getFloat("diagonal", 35.0f);
         if (film.has("cropwindow") || film.has("pixelbounds"))
             warn(m_scene.film.location, "cropwindow",
                  "film cropwindow/pixelbounds: the whole image is rendered");
@@ -488,6 +493,7 @@ private:
             if (params.has("aperturediameter"))
                 addFloat(node, "apertureDiameter", params.getFloat("aperturediameter", 1.0f));
             addFloat(node, "focusDistance", params.getFloat("focusdistance", 10.0f));
+            addFloat(node, "filmDiagonal", m_filmDiagonal);
             if (params.has("aperture"))
                 warn(camera.location, "aperture", "realistic camera: the aperture image is not "
                                                   "used (a circular aperture is)");
@@ -749,20 +755,35 @@ private:
               fmt::format("{}, {}", params.getFloat("uscale", 1.0f), params.getFloat("vscale", 1.0f)));
         child(image, "vector", "uvOffset",
               fmt::format("{}, {}", params.getFloat("udelta", 0.0f), params.getFloat("vdelta", 0.0f)));
-        if (params.getBool("invert", false))
-            warn(texture.location, "invert", "image texture 'invert': not applied");
+        const bool invert = params.getBool("invert", false);
         const float scale = params.getFloat("scale", 1.0f);
-        if (scale == 1.0f)
+        if (scale == 1.0f && !invert)
             return image;
         // scale(image): the image is declared first, with an id of its own.
         const std::string imageId = fmt::format("image:{}", m_images++);
         image.append_attribute("id") = imageId.c_str();
         publish(image);
+        // pbrt-v4: scale · value, then 1 − that when inverted.
         pugi::xml_node scaled = declare("texture");
         scaled.append_attribute("type") = "scale";
         addRef(scaled, imageId, "tex");
         addFloat(scaled, "scale", scale);
-        return scaled;
+        if (!invert)
+            return scaled;
+        const std::string scaledId = imageId + ":scaled";
+        scaled.append_attribute("id") = scaledId.c_str();
+        publish(scaled);
+        // 1 − x as mix(1, 0; x): exact for a float texture; a colour one is mixed by its
+        // luminance (the mix texture's amount), which only a grey image keeps exact.
+        if (texture.valueType != "float")
+            warn(texture.location, "invert-colour",
+                 "image texture 'invert' of a colour image: inverted by its luminance");
+        pugi::xml_node inverted = declare("texture");
+        inverted.append_attribute("type") = "mix";
+        addFloat(inverted, "tex1", 1.0f);
+        addFloat(inverted, "tex2", 0.0f);
+        addRef(inverted, scaledId, "amount");
+        return inverted;
     }
 
     // ---- materials ----
@@ -1572,6 +1593,7 @@ private:
     std::set<std::string> m_declaredTextures, m_declaredMaterials, m_declaredMedia, m_definedObjects;
     int m_width = 1280, m_height = 720;
     float m_imagingRatio = 1.0f;
+    float m_filmDiagonal = 35.0f; ///< mm, of the realistic camera's film
     int m_sideFiles = 0, m_images = 0;
 };
 

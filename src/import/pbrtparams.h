@@ -6,6 +6,7 @@
 
 #include <nori/color.h>
 #include <nori/pbrtscene.h>
+#include <nori/vector.h>
 
 #include <optional>
 #include <set>

@@ -25,3 +25,8 @@ execute_process(COMMAND ${NORI} --no-progress -o ${GEN}/image ${DIR}/valid.xml
 if(NOT status EQUAL 0)
     message(FATAL_ERROR "could not render ${DIR}/valid.xml: ${output}")
 endif()
+
+# A Loop subdivision surface of 2000 triangles at level 8: 1.3·10⁸ triangles, more than
+# the pbrt-v4 importer builds.
+string(REPEAT "0 1 2 " 2000 indices)
+file(WRITE ${GEN}/huge-subdivision.pbrt "WorldBegin\n# 2000 triangles, 8 levels\nShape \"loopsubdiv\" \"integer levels\" [8]\n  \"point3 P\" [0 0 0 1 0 0 0 1 0]\n  \"integer indices\" [${indices}]\n")
