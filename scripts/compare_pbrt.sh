@@ -4,7 +4,7 @@
 # channel, in standard errors of nori's render; pbrt-v4's, at 4× the samples, is taken
 # as the reference).
 #   scripts/compare_pbrt.sh PBRT [--size N] [--spp N] [--grey] SCENE.pbrt...
-# --size N  renders at N × N pixels (default 64; the scene's aspect is not kept)
+# --size N  renders at N × N pixels (default 100; the scene's aspect is not kept)
 # --spp N   nori's samples per pixel (default 256; pbrt-v4 renders 4N)
 # --grey    also renders a grey copy of each scene, every "rgb" colour replaced by its
 #           luminance: what remains of a difference there is not spectral against RGB
@@ -14,7 +14,7 @@ case "${1:-}" in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; 
 set -euo pipefail
 pbrt=$(realpath "$1")
 shift
-size=64 spp=256 grey=0 scenes=()
+size=100 spp=256 grey=0 scenes=()
 while (($#)); do
     case "$1" in
     --size) size=$2; shift 2 ;;
@@ -28,11 +28,15 @@ nori=$root/build/nori imgtool=$root/build/nori-imgtool
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-compare() { # NAME FILE
-    local name=$1 file=$2
-    "$pbrt" --quiet --nthreads 2 --spp $((4 * spp)) --seed 1 --outfile "$work/$name-pbrt.exr" "$file"
-    "$nori" "$file" --spp "$spp" --aovs variance --no-progress -o "$work/$name-nori" >/dev/null 2>&1
+compare() { # NAME FILE: a renderer that fails is reported, and the next scene follows
+    local name=$1 file=$2 status=0
     echo "== $name"
+    "$pbrt" --quiet --nthreads 2 --spp $((4 * spp)) --seed 1 --outfile "$work/$name-pbrt.exr" \
+        "$file" || status=$?
+    if ((status)); then echo "pbrt-v4 failed (exit status $status)"; return; fi
+    "$nori" "$file" --spp "$spp" --aovs variance --no-progress -o "$work/$name-nori" \
+        >"$work/$name-nori.log" 2>&1 || status=$?
+    if ((status)); then echo "nori failed (exit status $status):"; cat "$work/$name-nori.log"; return; fi
     "$imgtool" compare "$work/$name-nori.exr" "$work/$name-pbrt.exr" --grid 4 || true
 }
 

@@ -316,6 +316,21 @@ Shape "sphere"
     CHECK(xml.find("\"linear\"", sky) < xml.find("</texture>", sky));
     // scale wraps the image; invert is 1 − x as a mix of 1 and 0.
     CHECK_THAT(xml, Contains("type=\"scale\"") && Contains("type=\"mix\""));
-    // Textures are declared before the shapes that refer to them, and load.
-    CHECK(xml.find("id=\"texture:checks\"") < xml.find("<!-- shapes and lights -->"));
+    // Textures are declared before everything that refers to them.
+    CHECK(xml.find("id=\"texture:checks\"") < xml.find("<!-- the scene -->"));
+}
+
+TEST_CASE("a pbrt-v4 camera inside a medium gets that medium", "[pbrt][import]") {
+    const std::string header = R"(
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [0.1 0.1 0.1]
+MediumInterface "" "fog"
+LookAt 0 0 -5  0 0 0  0 1 0
+Camera "perspective" "float fov" [40]
+Film "rgb" "integer xresolution" [8] "integer yresolution" [8]
+WorldBegin
+)";
+    // The medium is declared before the camera that refers to it.
+    const std::shared_ptr<Scene> scene =
+        loadScene(importPbrt("Shape \"sphere\"\n", header).xml);
+    REQUIRE(scene->getCamera()->getMedium() != nullptr);
 }

@@ -318,12 +318,14 @@ public:
     Conversion run() {
         m_root = m_document.append_child("scene");
         m_scratch = m_document.append_child("scratch");
+        // Declarations (textures, BSDFs, media) go before this mark, so that they come
+        // before everything that refers to them, the camera's medium included.
+        m_bodyStart = m_root.append_child(pugi::node_comment);
+        m_bodyStart.set_value(" the scene ");
         readFilm();
         writeIntegrator();
         writeSampler();
         writeCamera();
-        m_bodyStart = m_root.append_child(pugi::node_comment);
-        m_bodyStart.set_value(" shapes and lights ");
         for (const InstanceDefinition &definition : m_scene.instances)
             writeInstanceDefinition(definition);
         for (const InstanceUse &use : m_scene.instanceUses)
@@ -346,7 +348,7 @@ private:
     /// A new declaration (a texture, a BSDF, a medium), made aside until finished.
     pugi::xml_node declare(const char *tag) { return m_scratch.append_child(tag); }
     /// Moves a finished declaration into the scene: after every declaration finished
-    /// before it (which includes the ones it refers to), before the shapes.
+    /// before it (which includes the ones it refers to), before the camera and shapes.
     void publish(pugi::xml_node node) { m_root.insert_move_before(node, m_bodyStart); }
 
     void warn(const Location &where, const std::string &feature, const std::string &message) {
