@@ -596,7 +596,7 @@ private:
             throw LocatedError(where.str(), fmt::format("no {} texture named '{}'{}", valueType,
                                                         name, didYouMean(name, known)));
         }
-        const std::string id = fmt::format("{}texture:{}", valueType == "float" ? "float" : "", name);
+        std::string id = fmt::format("{}texture:{}", valueType == "float" ? "float" : "", name);
         if (m_declaredTextures.count(id))
             return id;
         if (depth > 64)
@@ -1088,7 +1088,7 @@ private:
             throw LocatedError(where.str(), fmt::format("no medium named '{}'{}", name,
                                                         didYouMean(name, known)));
         }
-        const std::string id = "medium:" + name;
+        std::string id = "medium:" + name;
         if (m_declaredMedia.insert(id).second) {
             pugi::xml_node node = writeMedium(m_scene.media[it->second]);
             node.append_attribute("id") = id.c_str();
