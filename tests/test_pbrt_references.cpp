@@ -17,12 +17,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <filesystem>
 #include <functional>
 
 using namespace nori;
 using namespace nori::testing;
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -68,7 +66,7 @@ std::vector<GridMeans> renderImported(const std::string &scene,
     std::vector<GridMeans> renders;
     const TempDir sideFiles;
     for (int seed = 1; seed <= kReferenceSeeds; ++seed) {
-        pbrt::Scene parsed = pbrt::readScene(kGreyScenes + "/" + scene + ".pbrt");
+        pbrt::Scene parsed = pbrt::readScene(fmt::format("{}/{}.pbrt", kGreyScenes, scene));
         pbrt::Parameter seedParameter;
         seedParameter.type = "integer";
         seedParameter.name = "seed";
