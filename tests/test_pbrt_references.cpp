@@ -6,9 +6,9 @@
 // grid, per channel, the difference of the means is within 4 standard errors of the
 // difference (Welch's t-test on the seeds' means, at the two-sided level of 4 normal
 // standard errors, 6.3·10⁻⁵).
+#include <nori/imagefile.h>
 #include <nori/parser.h>
 #include <nori/pbrtimport.h>
-#include <nori/imagefile.h>
 #include <nori/render.h>
 #include <nori/statistics.h>
 
@@ -62,7 +62,7 @@ std::string gridRegionName(size_t region) {
 /// Our renders of a pbrt-v4 file, one per seed, through the importer and the XML loader.
 /// `edit` may change the XML (the negative controls plant a mapping bug there).
 std::vector<GridMeans> renderImported(const std::string &scene,
-                                    const std::function<std::string(std::string)> &edit = {}) {
+                                      const std::function<std::string(std::string)> &edit = {}) {
     std::vector<GridMeans> renders;
     const TempDir sideFiles;
     for (int seed = 1; seed <= kReferenceSeeds; ++seed) {
@@ -162,26 +162,28 @@ TEST_CASE("the pbrt-v4 reference comparison rejects a planted mapping bug",
           "[pbrt][reference][negative]") {
     const std::vector<GridMeans> references = pbrtRenders("cornell-grey");
     SECTION("a light 3% too bright") {
-        const GridVerdict verdict = compareGrids(renderImported("cornell-grey",
-                                                   [](std::string xml) {
-                                                       const std::string from = "\"30, 30, 30\"";
-                                                       REQUIRE(xml.find(from) != std::string::npos);
-                                                       return xml.replace(xml.find(from), from.size(),
-                                                                          "\"30.9, 30.9, 30.9\"");
-                                                   }),
-                                        references);
+        const GridVerdict verdict =
+            compareGrids(renderImported("cornell-grey",
+                                        [](std::string xml) {
+                                            const std::string from = "\"30, 30, 30\"";
+                                            REQUIRE(xml.find(from) != std::string::npos);
+                                            return xml.replace(xml.find(from), from.size(),
+                                                               "\"30.9, 30.9, 30.9\"");
+                                        }),
+                         references);
         CHECK(verdict.failures > 0);
     }
     SECTION("fov on the horizontal axis instead of the shorter one") {
-        const GridVerdict verdict = compareGrids(renderImported("cornell-grey",
-                                                   [](std::string xml) {
-                                                       const size_t at = xml.find("name=\"fov\" value=\"");
-                                                       REQUIRE(at != std::string::npos);
-                                                       const size_t begin = at + 18;
-                                                       const size_t end = xml.find('"', begin);
-                                                       return xml.replace(begin, end - begin, "37.5");
-                                                   }),
-                                        references);
+        const GridVerdict verdict =
+            compareGrids(renderImported("cornell-grey",
+                                        [](std::string xml) {
+                                            const size_t at = xml.find("name=\"fov\" value=\"");
+                                            REQUIRE(at != std::string::npos);
+                                            const size_t begin = at + 18;
+                                            const size_t end = xml.find('"', begin);
+                                            return xml.replace(begin, end - begin, "37.5");
+                                        }),
+                         references);
         CHECK(verdict.failures > 0);
     }
 }

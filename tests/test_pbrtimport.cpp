@@ -28,7 +28,8 @@ Sampler "independent" "integer pixelsamples" [4]
 WorldBegin
 )";
 
-pbrt::Conversion importPbrt(const std::string &body, const std::string &header = kImportTestHeader) {
+pbrt::Conversion importPbrt(const std::string &body,
+                            const std::string &header = kImportTestHeader) {
     const pbrt::Scene scene = pbrt::readSceneString(header + body, "test.pbrt");
     pbrt::ConvertOptions options;
     return pbrt::convertScene(scene, options);
@@ -51,7 +52,8 @@ double importedNumber(const std::string &xml, const std::string &name) {
 TEST_CASE("pbrt-v4's fov spans the shorter image axis", "[pbrt][import]") {
     // 200 × 100: fov is vertical, ours horizontal: 2·atan(2·tan 20°).
     const double wide = importedNumber(importPbrt("").xml, "fov");
-    CHECK(wide == Approx(2.0 * std::atan(2.0 * std::tan(20.0 * kImportTestPi / 180.0)) * 180.0 / kImportTestPi)
+    CHECK(wide == Approx(2.0 * std::atan(2.0 * std::tan(20.0 * kImportTestPi / 180.0)) * 180.0 /
+                         kImportTestPi)
                       .epsilon(1e-6));
     // 100 × 200: fov is horizontal already.
     const std::string tall = R"(
@@ -72,7 +74,8 @@ Material "conductor" "float roughness" [0.3]
 Shape "sphere"
 Material "dielectric"
 Shape "sphere"
-)").xml;
+)")
+                                .xml;
     // diffuse and conductor are wrapped, the dielectric transmits and is two-sided as it is.
     size_t wrappers = 0;
     for (size_t at = xml.find("type=\"twosided\""); at != std::string::npos;
@@ -101,37 +104,38 @@ TEST_CASE("pbrt-v4 illuminants: rgb as given, spectra at luminance 1", "[pbrt][i
     const std::string rgb = importPbrt(R"(
 AreaLightSource "diffuse" "rgb L" [0.2 0.5 0.9] "float scale" [2]
 Shape "sphere"
-)").xml;
+)")
+                                .xml;
     CHECK_THAT(rgb, Contains("\"0.4, 1, 1.8\""));
     for (const char *spectrum : {"\"blackbody L\" [3000]", "\"spectrum L\" \"stdillum-D65\""}) {
         INFO(spectrum);
-        const std::shared_ptr<Scene> scene = loadScene(
-            importPbrt(std::string("AreaLightSource \"diffuse\" ") + spectrum +
-                    " \"float scale\" [2]\nShape \"sphere\"\n")
-                .xml);
+        const std::shared_ptr<Scene> scene =
+            loadScene(importPbrt(std::string("AreaLightSource \"diffuse\" ") + spectrum +
+                                 " \"float scale\" [2]\nShape \"sphere\"\n")
+                          .xml);
         const Color3f power = scene->getEmitters().front()->getPower();
         // Power = π·L·area of a unit sphere: luminance 2·π·4π.
-        CHECK(power.getLuminance() == Approx(2.0 * kImportTestPi * 4.0 * kImportTestPi).epsilon(1e-3));
+        CHECK(power.getLuminance() ==
+              Approx(2.0 * kImportTestPi * 4.0 * kImportTestPi).epsilon(1e-3));
     }
 }
 
-TEST_CASE("pbrt-v4 files with mistakes give located errors with suggestions",
-          "[pbrt][import]") {
+TEST_CASE("pbrt-v4 files with mistakes give located errors with suggestions", "[pbrt][import]") {
     CHECK_THAT(importError("Material \"diffuse\" \"rgb reflectanse\" [0.5 0.5 0.5]\n"
-                                 "Shape \"sphere\"\n"),
+                           "Shape \"sphere\"\n"),
                Contains("test.pbrt:7:") && Contains("reflectanse") &&
                    Contains("did you mean 'reflectance'"));
     CHECK_THAT(importError("Material \"difuse\"\nShape \"sphere\"\n"),
                Contains("test.pbrt:7:") && Contains("'difuse'") && Contains("'diffuse'"));
     CHECK_THAT(importError("Shape \"spere\"\n"), Contains("'sphere'"));
     CHECK_THAT(importError("Material \"diffuse\" \"texture reflectance\" \"chek\"\n"
-                                 "Texture \"check\" \"spectrum\" \"checkerboard\"\n"
-                                 "Shape \"sphere\"\n"),
+                           "Texture \"check\" \"spectrum\" \"checkerboard\"\n"
+                           "Shape \"sphere\"\n"),
                Contains("no spectrum texture named 'chek'") && Contains("'check'"));
     CHECK_THAT(importError("Material \"diffuse\" \"bool reflectance\" true\nShape \"sphere\"\n"),
                Contains("wrong type"));
     CHECK_THAT(importError("Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] "
-                                 "\"integer indices\" [0 1 7]\n"),
+                           "\"integer indices\" [0 1 7]\n"),
                Contains("index 7"));
     CHECK_THAT(importError("MediumInterface \"fog\" \"\"\nShape \"sphere\"\n"),
                Contains("no medium named 'fog'"));
@@ -154,13 +158,11 @@ LightSource "goniometric" "string filename" "x.exr"
     std::string all;
     for (const std::string &warning : conversion.warnings)
         all += warning + "\n";
-    CHECK_THAT(all, Contains("diffuse grey of 0.5") && Contains("'curve'") &&
-                        Contains("skipped") && Contains("'goniometric'") &&
-                        Contains("test.pbrt:"));
+    CHECK_THAT(all, Contains("diffuse grey of 0.5") && Contains("'curve'") && Contains("skipped") &&
+                        Contains("'goniometric'") && Contains("test.pbrt:"));
 }
 
-TEST_CASE("pbrt-v4 shapes without a plugin of their own become triangle meshes",
-          "[pbrt][import]") {
+TEST_CASE("pbrt-v4 shapes without a plugin of their own become triangle meshes", "[pbrt][import]") {
     // A Loop subdivision surface of an octahedron, 2 levels: 8·4² triangles over a closed
     // surface, every vertex pushed to the limit surface: a convex combination of the
     // octahedron's corners, the six corners themselves at the limit position
@@ -209,18 +211,22 @@ TEST_CASE("trianglemesh reads its numbers back exactly", "[pbrt][import][shapes]
     CHECK(positions(1, 0) == 1e-7f);
     CHECK(positions(2, 0) == -12345.6789f);
     CHECK(positions(0, 2) == 1.0f / 3.0f);
-    CHECK_THAT(errorOf([] {
-                   loadScene(R"(<scene><integrator type="normals"/><camera type="perspective"/><mesh type="trianglemesh">
+    CHECK_THAT(
+        errorOf([] {
+            loadScene(
+                R"(<scene><integrator type="normals"/><camera type="perspective"/><mesh type="trianglemesh">
                        <string name="positions" value="0 0 0, 1 0 0, 0 1 0, 1 1 0"/>
                        </mesh></scene>)");
-               }),
-               Contains("'indices' is required"));
-    CHECK_THAT(errorOf([] {
-                   loadScene(R"(<scene><integrator type="normals"/><camera type="perspective"/><mesh type="trianglemesh">
+        }),
+        Contains("'indices' is required"));
+    CHECK_THAT(
+        errorOf([] {
+            loadScene(
+                R"(<scene><integrator type="normals"/><camera type="perspective"/><mesh type="trianglemesh">
                        <string name="positions" value="0 0 0, 1 0 zero, 0 1 0"/>
                        </mesh></scene>)");
-               }),
-               Contains("\"zero\""));
+        }),
+        Contains("\"zero\""));
 }
 
 TEST_CASE("nori renders a .pbrt file and its `nori convert` output to the same image",
@@ -267,8 +273,8 @@ AttributeEnd
     // The film's filename names the output, next to the scene.
     REQUIRE(fs::exists(dir.path() / "named.exr"));
 
-    const ProcessResult converted = runNori(
-        {"convert", (dir.path() / "scene.pbrt").string(), "-o", (dir.path() / "out/ours.xml").string()});
+    const ProcessResult converted = runNori({"convert", (dir.path() / "scene.pbrt").string(), "-o",
+                                             (dir.path() / "out/ours.xml").string()});
     INFO(converted.output);
     REQUIRE(converted.exitCode == 0);
     REQUIRE(fs::exists(dir.path() / "out/ours_meshes"));
@@ -330,7 +336,6 @@ Film "rgb" "integer xresolution" [8] "integer yresolution" [8]
 WorldBegin
 )";
     // The medium is declared before the camera that refers to it.
-    const std::shared_ptr<Scene> scene =
-        loadScene(importPbrt("Shape \"sphere\"\n", header).xml);
+    const std::shared_ptr<Scene> scene = loadScene(importPbrt("Shape \"sphere\"\n", header).xml);
     REQUIRE(scene->getCamera()->getMedium() != nullptr);
 }

@@ -241,7 +241,8 @@ TEST_CASE("Cancelling keeps the finished passes: a whole frame at fewer samples"
 TEST_CASE("A scene without lights renders black with every light-sampling integrator",
           "[render][integrator]") {
     // pbrt-v4 files may have no light; the light tree then has nothing to walk.
-    for (const char *integrator : {"direct", "path", "path_mis", "volpath", "bdpt", "lighttracer"}) {
+    for (const char *integrator :
+         {"direct", "path", "path_mis", "volpath", "bdpt", "lighttracer"}) {
         INFO(integrator);
         const std::shared_ptr<Scene> scene = loadScene(fmt::format(R"(<scene>
             <integrator type="{}"/>

@@ -40,9 +40,9 @@ struct ConvertOptions {
 };
 
 struct Conversion {
-    std::string xml;                   ///< our scene
-    std::string outputName;            ///< the Film's `filename`, "" when it names none
-    std::vector<std::string> warnings; ///< one per feature and file: what was substituted
+    std::string xml;                    ///< our scene
+    std::string outputName;             ///< the Film's `filename`, "" when it names none
+    std::vector<std::string> warnings;  ///< one per feature and file: what was substituted
     std::vector<std::string> sideFiles; ///< the files written into sideFileDirectory
 };
 

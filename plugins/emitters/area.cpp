@@ -128,9 +128,8 @@ public:
         Normal3f side = point.n;
         if (m_twoSided) {
             const bool back = hemisphereSample.x() >= 0.5f;
-            hemisphereSample.x() =
-                std::min(2.0f * hemisphereSample.x() - (back ? 1.0f : 0.0f),
-                         std::nextafter(1.0f, 0.0f));
+            hemisphereSample.x() = std::min(2.0f * hemisphereSample.x() - (back ? 1.0f : 0.0f),
+                                            std::nextafter(1.0f, 0.0f));
             if (back)
                 side = -side;
         }
@@ -156,8 +155,8 @@ public:
     EmissionDensity emissionDensity(const Point3f &, const Normal3f &n,
                                     const Vector3f &direction) const override {
         const float cosTheta = n.dot(direction);
-        return {1.0f / m_shape->getArea(),
-                m_twoSided ? 0.5f * std::abs(cosTheta) * kInvPi : std::max(0.0f, cosTheta) * kInvPi};
+        return {1.0f / m_shape->getArea(), m_twoSided ? 0.5f * std::abs(cosTheta) * kInvPi
+                                                      : std::max(0.0f, cosTheta) * kInvPi};
     }
 
     // A Lambertian emitter radiates π·L per unit area, from each side it emits from; a

@@ -37,10 +37,10 @@
 #include <nori/shading.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <type_traits>
-#include <cstdlib>
 
 namespace nori {
 namespace {
@@ -63,8 +63,8 @@ std::vector<Number> readNumbers(const std::string &text, const std::string &what
         if constexpr (std::is_integral_v<Number>) {
             const long parsed = std::strtol(cursor, &end, 10);
             if (end != cursor && (parsed < 0 || parsed > std::numeric_limits<Number>::max()))
-                throw NoriException("trianglemesh: '{}' holds {}, which is no vertex index",
-                                    what, parsed);
+                throw NoriException("trianglemesh: '{}' holds {}, which is no vertex index", what,
+                                    parsed);
             value = static_cast<Number>(parsed);
         } else {
             value = std::strtof(cursor, &end);
@@ -85,8 +85,10 @@ class TriangleMeshShape : public Mesh {
 public:
     explicit TriangleMeshShape(const PropertyList &props) {
         m_name = "trianglemesh";
-        const std::vector<float> positions = readNumbers<float>(props.getString("positions"), "positions");
-        const std::vector<float> normals = readNumbers<float>(props.getString("normals", ""), "normals");
+        const std::vector<float> positions =
+            readNumbers<float>(props.getString("positions"), "positions");
+        const std::vector<float> normals =
+            readNumbers<float>(props.getString("normals", ""), "normals");
         const std::vector<float> uvs = readNumbers<float>(props.getString("uvs", ""), "uvs");
         if (positions.empty() || positions.size() % 3 != 0)
             throw NoriException("trianglemesh: 'positions' must hold x y z per vertex, got {} "
@@ -115,7 +117,8 @@ public:
         MeshData data;
         data.positions.reserve(vertexCount);
         for (size_t i = 0; i < vertexCount; ++i)
-            data.positions.emplace_back(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);
+            data.positions.emplace_back(positions[3 * i], positions[3 * i + 1],
+                                        positions[3 * i + 2]);
         for (size_t i = 0; i < normals.size() / 3; ++i)
             data.normals.emplace_back(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
         for (size_t i = 0; i < uvs.size() / 2; ++i)
@@ -126,7 +129,8 @@ public:
                     throw NoriException("trianglemesh: triangle {} uses vertex {}, but there are "
                                         "only {} vertices",
                                         i / 3, indices[i + corner], vertexCount);
-            data.triangles.emplace_back(static_cast<int>(indices[i]), static_cast<int>(indices[i + 1]),
+            data.triangles.emplace_back(static_cast<int>(indices[i]),
+                                        static_cast<int>(indices[i + 1]),
                                         static_cast<int>(indices[i + 2]));
         }
         readSurfaceParameters(*this, props);

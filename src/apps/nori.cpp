@@ -250,7 +250,8 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
                    "inline meshes as PLY files in OUT_meshes/ (docs/pbrt-scenes.md)");
     convert->footer("");
     convert->add_option("scene", options.convertInput, "the pbrt-v4 file")->type_name("SCENE.pbrt");
-    convert->add_option("-o,--output", options.output, "the XML file to write")->type_name("OUT.xml");
+    convert->add_option("-o,--output", options.output, "the XML file to write")
+        ->type_name("OUT.xml");
     convert->callback([&options] { options.convert = true; });
 }
 

@@ -15,8 +15,7 @@ namespace {
 
 /// A (columns + 1) × (rows + 1) grid of vertices made by `vertex(s, t)` for s, t ∈ [0, 1],
 /// and two triangles per cell, wound so that their normal follows the vertex normals.
-template <typename Vertex>
-MeshData grid(int columns, int rows, Vertex &&vertex) {
+template <typename Vertex> MeshData grid(int columns, int rows, Vertex &&vertex) {
     MeshData mesh;
     for (int j = 0; j <= rows; ++j)
         for (int i = 0; i <= columns; ++i) {
@@ -38,8 +37,8 @@ MeshData grid(int columns, int rows, Vertex &&vertex) {
             for (Vector3i *face : {&a, &b}) {
                 const Vector3f e1 = mesh.positions[(*face)[1]] - mesh.positions[(*face)[0]];
                 const Vector3f e2 = mesh.positions[(*face)[2]] - mesh.positions[(*face)[0]];
-                const Vector3f n = mesh.normals[(*face)[0]] + mesh.normals[(*face)[1]] +
-                                   mesh.normals[(*face)[2]];
+                const Vector3f n =
+                    mesh.normals[(*face)[0]] + mesh.normals[(*face)[1]] + mesh.normals[(*face)[2]];
                 if (e1.cross(e2).dot(n) < 0.0f)
                     std::swap((*face)[1], (*face)[2]);
             }
@@ -61,16 +60,16 @@ MeshData tessellateSphere(float radius, float zMin, float zMax, float phiMax, in
     const float theta0 = std::acos(std::clamp(z0 / radius, -1.0f, 1.0f));
     const float theta1 = std::acos(std::clamp(z1 / radius, -1.0f, 1.0f));
     const int rows = std::max(2, int(std::ceil(float(segments) / 2.0f * (theta0 - theta1) / kPi)));
-    return grid(segmentsFor(phiMax, segments), rows, [&](float u, float v, Point3f &p, Normal3f &n) {
-        const float phi = u * phiMax, theta = theta0 + v * (theta1 - theta0);
-        n = Normal3f(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                     std::cos(theta));
-        p = Point3f(radius * n.x(), radius * n.y(), radius * n.z());
-    });
+    return grid(segmentsFor(phiMax, segments), rows,
+                [&](float u, float v, Point3f &p, Normal3f &n) {
+                    const float phi = u * phiMax, theta = theta0 + v * (theta1 - theta0);
+                    n = Normal3f(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                                 std::cos(theta));
+                    p = Point3f(radius * n.x(), radius * n.y(), radius * n.z());
+                });
 }
 
-MeshData tessellateDisk(float height, float radius, float innerRadius, float phiMax,
-                        int segments) {
+MeshData tessellateDisk(float height, float radius, float innerRadius, float phiMax, int segments) {
     return grid(segmentsFor(phiMax, segments), std::max(1, segments / 8),
                 [&](float u, float v, Point3f &p, Normal3f &n) {
                     const float phi = u * phiMax, r = radius - v * (radius - innerRadius);
@@ -103,7 +102,9 @@ namespace {
 
 using Edge = std::pair<int, int>;
 
-Edge edgeOf(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+Edge edgeOf(int a, int b) {
+    return {std::min(a, b), std::max(a, b)};
+}
 
 /// The topology one subdivision step needs: each edge's opposite vertices (one on a
 /// boundary, two inside), each vertex's neighbours and its neighbours along boundaries.
@@ -111,8 +112,8 @@ struct Topology {
     std::map<Edge, std::vector<int>> opposite;
     std::vector<std::set<int>> neighbours, boundaryNeighbours;
 
-    explicit Topology(const MeshData &mesh) : neighbours(mesh.positions.size()),
-                                              boundaryNeighbours(mesh.positions.size()) {
+    explicit Topology(const MeshData &mesh)
+        : neighbours(mesh.positions.size()), boundaryNeighbours(mesh.positions.size()) {
         for (const Vector3i &face : mesh.triangles)
             for (int k = 0; k < 3; ++k) {
                 const int a = face[k], b = face[(k + 1) % 3], c = face[(k + 2) % 3];
@@ -156,9 +157,8 @@ MeshData loopSubdivide(MeshData mesh, int levels) {
         for (size_t v = 0; v < p.size(); ++v) {
             if (topology.onBoundary(v)) {
                 const std::set<int> &ring = topology.boundaryNeighbours[v];
-                next.positions.push_back(ring.size() == 2
-                                             ? weightedSum(p[v], 0.75f, ring, 0.125f, p)
-                                             : p[v]);
+                next.positions.push_back(
+                    ring.size() == 2 ? weightedSum(p[v], 0.75f, ring, 0.125f, p) : p[v]);
             } else if (topology.neighbours[v].empty()) {
                 next.positions.push_back(p[v]);
             } else {
@@ -174,8 +174,8 @@ MeshData loopSubdivide(MeshData mesh, int levels) {
             const Vector3f a = p[size_t(edge.first)], b = p[size_t(edge.second)];
             Vector3f position = 0.5f * (a + b);
             if (others.size() == 2)
-                position = 0.375f * (a + b) +
-                           0.125f * (Vector3f(p[size_t(others[0])]) + Vector3f(p[size_t(others[1])]));
+                position = 0.375f * (a + b) + 0.125f * (Vector3f(p[size_t(others[0])]) +
+                                                        Vector3f(p[size_t(others[1])]));
             edgeVertex[edge] = int(next.positions.size());
             next.positions.emplace_back(position);
         }
@@ -198,9 +198,9 @@ MeshData loopSubdivide(MeshData mesh, int levels) {
     for (size_t v = 0; v < mesh.positions.size(); ++v) {
         if (topology.onBoundary(v)) {
             const std::set<int> &ring = topology.boundaryNeighbours[v];
-            limit[v] = ring.size() == 2 ? weightedSum(mesh.positions[v], 0.6f, ring, 0.2f,
-                                                      mesh.positions)
-                                        : mesh.positions[v];
+            limit[v] = ring.size() == 2
+                           ? weightedSum(mesh.positions[v], 0.6f, ring, 0.2f, mesh.positions)
+                           : mesh.positions[v];
         } else if (topology.neighbours[v].empty()) {
             limit[v] = mesh.positions[v];
         } else {

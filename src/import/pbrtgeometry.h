@@ -16,8 +16,7 @@ namespace nori::pbrt {
 MeshData tessellateSphere(float radius, float zMin, float zMax, float phiMax, int segments);
 /// pbrt-v4's `disk` (§6.3 of the 4th ed.): at z = height, radii [innerRadius, radius], φ ≤
 /// φMax; u = φ/φMax, v = (radius − r)/(radius − innerRadius), normals along +z.
-MeshData tessellateDisk(float height, float radius, float innerRadius, float phiMax,
-                        int segments);
+MeshData tessellateDisk(float height, float radius, float innerRadius, float phiMax, int segments);
 /// pbrt-v4's `cylinder` (§6.3): radius r about the z axis from zMin to zMax, φ ≤ φMax;
 /// u = φ/φMax, v = (z − zMin)/(zMax − zMin), normals outward.
 MeshData tessellateCylinder(float radius, float zMin, float zMax, float phiMax, int segments);

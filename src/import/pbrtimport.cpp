@@ -41,14 +41,13 @@ const Names kLayered = {"thickness", "maxdepth", "nsamples", "g", "albedo"};
 const std::map<std::string, Names> &materialNames() {
     static const std::map<std::string, Names> table = {
         {"diffuse", join(kMaterialCommon, {"reflectance", "sigma"})},
-        {"coateddiffuse",
-         join(join(join(kMaterialCommon, kRoughness), kLayered), {"reflectance", "eta", "twosided"})},
-        {"coatedconductor",
-         join(join(kMaterialCommon, kLayered),
-              {"interface.roughness", "interface.uroughness", "interface.vroughness",
-               "interface.eta", "conductor.roughness", "conductor.uroughness",
-               "conductor.vroughness", "conductor.eta", "conductor.k", "reflectance",
-               "remaproughness"})},
+        {"coateddiffuse", join(join(join(kMaterialCommon, kRoughness), kLayered),
+                               {"reflectance", "eta", "twosided"})},
+        {"coatedconductor", join(join(kMaterialCommon, kLayered),
+                                 {"interface.roughness", "interface.uroughness",
+                                  "interface.vroughness", "interface.eta", "conductor.roughness",
+                                  "conductor.uroughness", "conductor.vroughness", "conductor.eta",
+                                  "conductor.k", "reflectance", "remaproughness"})},
         {"conductor", join(join(kMaterialCommon, kRoughness), {"eta", "k", "reflectance"})},
         {"dielectric", join(join(kMaterialCommon, kRoughness), {"eta"})},
         {"thindielectric", join(kMaterialCommon, {"eta"})},
@@ -56,9 +55,9 @@ const std::map<std::string, Names> &materialNames() {
         {"mix", join(kMaterialCommon, {"materials", "amount"})},
         {"interface", kMaterialCommon},
         {"measured", join(kMaterialCommon, {"filename"})},
-        {"subsurface", join(join(kMaterialCommon, kRoughness),
-                            {"mfp", "sigma_a", "sigma_s", "reflectance", "name", "scale", "eta",
-                             "g"})},
+        {"subsurface",
+         join(join(kMaterialCommon, kRoughness),
+              {"mfp", "sigma_a", "sigma_s", "reflectance", "name", "scale", "eta", "g"})},
         {"hair", join(kMaterialCommon, {"sigma_a", "color", "eumelanin", "pheomelanin", "eta",
                                         "beta_m", "beta_n", "alpha"})},
     };
@@ -118,33 +117,35 @@ const Names kMediumCommon = {"sigma_a", "sigma_s", "scale", "g", "Le", "Lescale"
 const std::map<std::string, Names> &mediumNames() {
     static const std::map<std::string, Names> table = {
         {"homogeneous", kMediumCommon},
-        {"uniformgrid", join(kMediumCommon, {"density", "nx", "ny", "nz", "p0", "p1",
-                                             "temperature", "temperaturecutoff",
-                                             "temperaturescale"})},
+        {"uniformgrid", join(kMediumCommon, {"density", "nx", "ny", "nz", "p0", "p1", "temperature",
+                                             "temperaturecutoff", "temperaturescale"})},
         {"nanovdb", join(kMediumCommon, {"filename", "temperaturecutoff", "temperaturescale"})},
         {"rgbgrid", join(kMediumCommon, {"nx", "ny", "nz", "p0", "p1"})},
-        {"cloud", {"density", "g", "sigma_a", "sigma_s", "wispiness", "frequency", "scale",
-                   "Le", "Lescale", "p0", "p1"}},
+        {"cloud",
+         {"density", "g", "sigma_a", "sigma_s", "wispiness", "frequency", "scale", "Le", "Lescale",
+          "p0", "p1"}},
     };
     return table;
 }
 
 const std::map<std::string, Names> &cameraNames() {
-    static const Names projective = {"shutteropen", "shutterclose", "frameaspectratio",
-                                     "screenwindow", "lensradius", "focaldistance"};
+    static const Names projective = {"shutteropen",  "shutterclose", "frameaspectratio",
+                                     "screenwindow", "lensradius",   "focaldistance"};
     static const std::map<std::string, Names> table = {
         {"perspective", join(projective, {"fov"})},
         {"orthographic", projective},
-        {"realistic", {"shutteropen", "shutterclose", "lensfile", "aperturediameter",
-                       "focusdistance", "aperture"}},
+        {"realistic",
+         {"shutteropen", "shutterclose", "lensfile", "aperturediameter", "focusdistance",
+          "aperture"}},
         {"spherical", {"shutteropen", "shutterclose", "mapping"}},
     };
     return table;
 }
 
-const Names kFilmNames = {"xresolution", "yresolution", "cropwindow", "pixelbounds", "diagonal",
-                          "filename", "savefp16", "iso", "exposuretime", "whitebalance",
-                          "sensor", "maxcomponentvalue", "writefp16"};
+const Names kFilmNames = {"xresolution",  "yresolution",  "cropwindow", "pixelbounds",
+                          "diagonal",     "filename",     "savefp16",   "iso",
+                          "exposuretime", "whitebalance", "sensor",     "maxcomponentvalue",
+                          "writefp16"};
 const std::map<std::string, Names> &filmNames() {
     static const std::map<std::string, Names> table = {
         {"rgb", kFilmNames},
@@ -168,9 +169,12 @@ const std::map<std::string, Names> &filterNames() {
 const std::map<std::string, Names> &samplerNames() {
     static const Names common = {"pixelsamples", "seed", "randomization"};
     static const std::map<std::string, Names> table = {
-        {"zsobol", common},        {"sobol", common},
-        {"paddedsobol", common},   {"halton", common},
-        {"pmj02bn", common},       {"independent", common},
+        {"zsobol", common},
+        {"sobol", common},
+        {"paddedsobol", common},
+        {"halton", common},
+        {"pmj02bn", common},
+        {"independent", common},
         {"stratified", join(common, {"jitter", "xsamples", "ysamples"})},
     };
     return table;
@@ -186,8 +190,9 @@ const std::map<std::string, Names> &integratorNames() {
         {"bdpt", join(common, {"visualizestrategies", "visualizeweights"})},
         {"lightpath", {"maxdepth"}},
         {"sppm", {"maxdepth", "photonsperiteration", "radius", "seed", "regularize"}},
-        {"mlt", {"maxdepth", "bootstrapsamples", "chains", "mutationsperpixel", "largestepprobability",
-                 "sigma", "regularize"}},
+        {"mlt",
+         {"maxdepth", "bootstrapsamples", "chains", "mutationsperpixel", "largestepprobability",
+          "sigma", "regularize"}},
         {"ambientocclusion", {"maxdistance", "cossample"}},
         {"randomwalk", {"maxdepth"}},
         {"aov", {"maxdistance", "cossample"}},
@@ -213,7 +218,9 @@ Parameters checked(const Entity &entity, const std::string &kind,
 
 // ---- XML writing --------------------------------------------------------------------
 
-std::string number(float value) { return fmt::format("{}", value + 0.0f); } // no "-0"
+std::string number(float value) {
+    return fmt::format("{}", value + 0.0f);
+} // no "-0"
 
 std::string triple(const Vector3f &v) {
     return fmt::format("{}, {}, {}", v.x(), v.y(), v.z());
@@ -304,7 +311,8 @@ public:
     Converter(const Scene &scene, const ConvertOptions &options)
         : m_scene(scene), m_options(options) {
         for (size_t i = 0; i < scene.textures.size(); ++i)
-            m_textures.emplace(std::make_pair(scene.textures[i].valueType, scene.textures[i].name), i);
+            m_textures.emplace(std::make_pair(scene.textures[i].valueType, scene.textures[i].name),
+                               i);
         for (size_t i = 0; i < scene.media.size(); ++i)
             m_media.emplace(scene.media[i].name, i);
         for (const std::string &line : scene.warnings)
@@ -363,22 +371,26 @@ private:
             path = fs::path(m_options.sceneDirectory) / path;
         path = path.lexically_normal();
         const fs::path xmlDirectory = fs::absolute(m_options.xmlDirectory).lexically_normal();
-        const fs::path relative = fs::absolute(path).lexically_normal().lexically_relative(xmlDirectory);
+        const fs::path relative =
+            fs::absolute(path).lexically_normal().lexically_relative(xmlDirectory);
         return relative.empty() ? path.string() : relative.generic_string();
     }
 
     /// A new file in the side-file folder, and its name as the XML writes it.
-    std::pair<std::string, std::string> sideFile(const std::string &stem, const std::string &extension) {
+    std::pair<std::string, std::string> sideFile(const std::string &stem,
+                                                 const std::string &extension) {
         if (m_options.sideFileDirectory.empty())
             throw NoriException("the pbrt-v4 importer needs a folder for the mesh and grid files "
                                 "it writes");
         fs::create_directories(m_options.sideFileDirectory);
-        const fs::path path =
-            fs::path(m_options.sideFileDirectory) / fmt::format("{}{:04d}{}", stem, m_sideFiles++, extension);
+        const fs::path path = fs::path(m_options.sideFileDirectory) /
+                              fmt::format("{}{:04d}{}", stem, m_sideFiles++, extension);
         m_result.sideFiles.push_back(path.string());
         const fs::path xmlDirectory = fs::absolute(m_options.xmlDirectory).lexically_normal();
-        return {path.string(),
-                fs::absolute(path).lexically_normal().lexically_relative(xmlDirectory).generic_string()};
+        return {path.string(), fs::absolute(path)
+                                   .lexically_normal()
+                                   .lexically_relative(xmlDirectory)
+                                   .generic_string()};
     }
 
     // ---- film, camera, sampler, integrator ----
@@ -394,9 +406,9 @@ private:
         m_width = film.getInt("xresolution", 1280);
         m_height = film.getInt("yresolution", 720);
         if (m_width <= 0 || m_height <= 0)
-            throw LocatedError(m_scene.film.location.str(),
-                               fmt::format("film resolution {} × {} is not positive", m_width,
-                                           m_height));
+            throw LocatedError(
+                m_scene.film.location.str(),
+                fmt::format("film resolution {} × {} is not positive", m_width, m_height));
         m_result.outputName = film.getString("filename", "");
         m_filmDiagonal = film.getFloat("diagonal", 35.0f);
         if (film.has("cropwindow") || film.has("pixelbounds"))
@@ -405,7 +417,8 @@ private:
         const std::string sensor = film.getString("sensor", "cie1931");
         if (sensor != "cie1931")
             warn(m_scene.film.location, "sensor",
-                 fmt::format("film sensor '{}': rendered with the CIE 1931 observer (sRGB)", sensor));
+                 fmt::format("film sensor '{}': rendered with the CIE 1931 observer (sRGB)",
+                             sensor));
         if (film.getFloat("whitebalance", 0.0f) != 0.0f)
             warn(m_scene.film.location, "whitebalance",
                  "film whitebalance: not applied (the image is balanced for D65)");
@@ -413,8 +426,10 @@ private:
         // image, the exposure time being the shutter's (close − open) unless the film gives
         // one; transport is linear, so the lights are scaled instead.
         const Parameters camera = checked(m_scene.camera, "camera", cameraNames());
-        const float shutter = camera.getFloat("shutterclose", 1.0f) - camera.getFloat("shutteropen", 0.0f);
-        m_imagingRatio = film.getFloat("exposuretime", shutter) * film.getFloat("iso", 100.0f) / 100.0f;
+        const float shutter =
+            camera.getFloat("shutterclose", 1.0f) - camera.getFloat("shutteropen", 0.0f);
+        m_imagingRatio =
+            film.getFloat("exposuretime", shutter) * film.getFloat("iso", 100.0f) / 100.0f;
     }
 
     void writeIntegrator() {
@@ -440,13 +455,16 @@ private:
             ours = "lighttracer";
         else if (type == "sppm")
             ours = "progressivephotonmapper";
-        if (type == "simplepath" || type == "simplevolpath" || type == "mlt" || type == "randomwalk")
-            warn(entity.location, "integrator",
-                 fmt::format("integrator '{}' is rendered by our '{}' (the same image, other noise)",
-                             type, ours));
+        if (type == "simplepath" || type == "simplevolpath" || type == "mlt" ||
+            type == "randomwalk")
+            warn(
+                entity.location, "integrator",
+                fmt::format("integrator '{}' is rendered by our '{}' (the same image, other noise)",
+                            type, ours));
         if (params.getBool("regularize", false))
             warn(entity.location, "regularize", "integrator regularize: not applied");
-        if (params.getBool("visualizestrategies", false) || params.getBool("visualizeweights", false))
+        if (params.getBool("visualizestrategies", false) ||
+            params.getBool("visualizeweights", false))
             warn(entity.location, "visualize",
                  "bdpt visualizestrategies/visualizeweights: give bdpt's `strategies` instead");
         node = addObject(m_root, "integrator", ours);
@@ -456,8 +474,9 @@ private:
             if (params.has("radius"))
                 addFloat(node, "photonRadius", params.getFloat("radius", 1.0f));
             if (params.has("maxdepth"))
-                warn(entity.location, "sppm-maxdepth", "sppm maxdepth: our photon mapper follows "
-                                                       "paths until Russian roulette ends them");
+                warn(entity.location, "sppm-maxdepth",
+                     "sppm maxdepth: our photon mapper follows "
+                     "paths until Russian roulette ends them");
             return;
         }
         // pbrt-v4's maxdepth counts scattering events, as our maxDepth does.
@@ -497,8 +516,9 @@ private:
             addFloat(node, "focusDistance", params.getFloat("focusdistance", 10.0f));
             addFloat(node, "filmDiagonal", m_filmDiagonal);
             if (params.has("aperture"))
-                warn(camera.location, "aperture", "realistic camera: the aperture image is not "
-                                                  "used (a circular aperture is)");
+                warn(camera.location, "aperture",
+                     "realistic camera: the aperture image is not "
+                     "used (a circular aperture is)");
         } else {
             if (camera.type != "perspective")
                 warn(camera.location, "camera",
@@ -522,9 +542,9 @@ private:
         // pbrt-v4's screen window (PBR 4th ed. §5.1.3): [−a, a] × [−1, 1] for a wide image
         // of aspect a, [−1, 1] × [−1/a, 1/a] for a tall one, in units of tan(fov/2).
         const float aspect = params.getFloat("frameaspectratio", float(m_width) / float(m_height));
-        std::vector<float> window = aspect > 1.0f ? std::vector<float>{-aspect, aspect, -1.0f, 1.0f}
-                                                  : std::vector<float>{-1.0f, 1.0f, -1.0f / aspect,
-                                                                       1.0f / aspect};
+        std::vector<float> window =
+            aspect > 1.0f ? std::vector<float>{-aspect, aspect, -1.0f, 1.0f}
+                          : std::vector<float>{-1.0f, 1.0f, -1.0f / aspect, 1.0f / aspect};
         if (params.has("screenwindow")) {
             window = params.getFloats("screenwindow");
             if (window.size() != 4)
@@ -559,8 +579,11 @@ private:
     void writeFilter(pugi::xml_node camera) {
         const Entity &entity = m_scene.filter;
         const Parameters params = checked(entity, "filter", filterNames());
-        const std::map<std::string, float> defaultRadius = {
-            {"box", 0.5f}, {"gaussian", 1.5f}, {"mitchell", 2.0f}, {"sinc", 4.0f}, {"triangle", 2.0f}};
+        const std::map<std::string, float> defaultRadius = {{"box", 0.5f},
+                                                            {"gaussian", 1.5f},
+                                                            {"mitchell", 2.0f},
+                                                            {"sinc", 4.0f},
+                                                            {"triangle", 2.0f}};
         const float xRadius = params.getFloat("xradius", defaultRadius.at(entity.type));
         const float yRadius = params.getFloat("yradius", defaultRadius.at(entity.type));
         if (xRadius != yRadius)
@@ -629,7 +652,8 @@ private:
                          const std::string &name, float defaultValue, int depth = 0) {
         const TextureValue value = params.getFloatTexture(name, defaultValue);
         if (value.isTexture())
-            addRef(parent, textureId(value.texture, "float", locationOf(params, name), depth), ours);
+            addRef(parent, textureId(value.texture, "float", locationOf(params, name), depth),
+                   ours);
         else
             addFloat(parent, ours, value.constant.r());
     }
@@ -673,10 +697,12 @@ private:
             pugi::xml_node amount = addObject(node, "texture", "checkerboard_float", "amount");
             addFloat(amount, "value1", 0.0f);
             addFloat(amount, "value2", 1.0f);
-            const float uScale = params.getFloat("uscale", 1.0f), vScale = params.getFloat("vscale", 1.0f);
+            const float uScale = params.getFloat("uscale", 1.0f),
+                        vScale = params.getFloat("vscale", 1.0f);
             child(amount, "vector", "scale", fmt::format("{}, {}", 1.0f / uScale, 1.0f / vScale));
             child(amount, "point", "delta",
-                  fmt::format("{}, {}", -params.getFloat("udelta", 0.0f), -params.getFloat("vdelta", 0.0f)));
+                  fmt::format("{}, {}", -params.getFloat("udelta", 0.0f),
+                              -params.getFloat("vdelta", 0.0f)));
             return node;
         }
         if (type == "scale") {
@@ -717,7 +743,8 @@ private:
     pugi::xml_node writeImageTexture(const TextureEntity &texture, const Parameters &params) {
         const std::string filename = params.getString("filename", "");
         if (filename.empty())
-            throw LocatedError(texture.location.str(), "texture 'imagemap' needs a \"string filename\"");
+            throw LocatedError(texture.location.str(),
+                               "texture 'imagemap' needs a \"string filename\"");
         pugi::xml_node image = declare("texture");
         image.append_attribute("type") = "image";
         addString(image, "filename", resolvePath(filename));
@@ -743,8 +770,10 @@ private:
             addString(image, "wrap", "clamp");
         }
         const std::string filter = params.getString("filter", "bilinear");
-        const std::map<std::string, std::string> filters = {
-            {"point", "nearest"}, {"bilinear", "bilinear"}, {"trilinear", "trilinear"}, {"ewa", "ewa"}};
+        const std::map<std::string, std::string> filters = {{"point", "nearest"},
+                                                            {"bilinear", "bilinear"},
+                                                            {"trilinear", "trilinear"},
+                                                            {"ewa", "ewa"}};
         const auto ourFilter = filters.find(filter);
         if (ourFilter == filters.end())
             params.fail(*params.find("filter"),
@@ -754,9 +783,11 @@ private:
         if (params.has("maxanisotropy"))
             addFloat(image, "maxAnisotropy", params.getFloat("maxanisotropy", 8.0f));
         child(image, "vector", "uvScale",
-              fmt::format("{}, {}", params.getFloat("uscale", 1.0f), params.getFloat("vscale", 1.0f)));
+              fmt::format("{}, {}", params.getFloat("uscale", 1.0f),
+                          params.getFloat("vscale", 1.0f)));
         child(image, "vector", "uvOffset",
-              fmt::format("{}, {}", params.getFloat("udelta", 0.0f), params.getFloat("vdelta", 0.0f)));
+              fmt::format("{}, {}", params.getFloat("udelta", 0.0f),
+                          params.getFloat("vdelta", 0.0f)));
         const bool invert = params.getBool("invert", false);
         const float scale = params.getFloat("scale", 1.0f);
         if (scale == 1.0f && !invert)
@@ -825,7 +856,8 @@ private:
         ref.bsdfId = id;
         if (m_declaredMaterials.insert(id).second) {
             if (depth > 32)
-                throw LocatedError(material.location.str(), "mix materials nest too deep (a cycle?)");
+                throw LocatedError(material.location.str(),
+                                   "mix materials nest too deep (a cycle?)");
             pugi::xml_node node = writeMaterial(material, depth);
             node.append_attribute("id") = id.c_str();
             publish(node);
@@ -845,8 +877,12 @@ private:
     struct Roughness {
         TextureValue u, v;
         bool remap = true;
-        float alphaU() const { return remap ? std::sqrt(std::max(u.constant.r(), 0.0f)) : u.constant.r(); }
-        float alphaV() const { return remap ? std::sqrt(std::max(v.constant.r(), 0.0f)) : v.constant.r(); }
+        float alphaU() const {
+            return remap ? std::sqrt(std::max(u.constant.r(), 0.0f)) : u.constant.r();
+        }
+        float alphaV() const {
+            return remap ? std::sqrt(std::max(v.constant.r(), 0.0f)) : v.constant.r();
+        }
         bool textured() const { return u.isTexture() || v.isTexture(); }
         /// pbrt-v4's EffectivelySmooth: both α below 10⁻³.
         bool smooth() const { return !textured() && std::max(alphaU(), alphaV()) < 1e-3f; }
@@ -855,8 +891,12 @@ private:
     static Roughness roughnessOf(const Parameters &params, const std::string &prefix = "") {
         Roughness r;
         const TextureValue both = params.getFloatTexture(prefix + "roughness", 0.0f);
-        r.u = params.has(prefix + "uroughness") ? params.getFloatTexture(prefix + "uroughness", 0.0f) : both;
-        r.v = params.has(prefix + "vroughness") ? params.getFloatTexture(prefix + "vroughness", 0.0f) : both;
+        r.u = params.has(prefix + "uroughness")
+                  ? params.getFloatTexture(prefix + "uroughness", 0.0f)
+                  : both;
+        r.v = params.has(prefix + "vroughness")
+                  ? params.getFloatTexture(prefix + "vroughness", 0.0f)
+                  : both;
         r.remap = params.getBool("remaproughness", true);
         return r;
     }
@@ -892,13 +932,15 @@ private:
                 warn(material.location, "sigma", "diffuse sigma (Oren–Nayar): rendered Lambertian");
             pugi::xml_node wrapper = twoSided();
             pugi::xml_node node = addObject(wrapper, "bsdf", "diffuse");
-            addSpectrum(node, "albedo", params, "reflectance", SpectrumKind::Reflectance, Color3f(0.5f));
+            addSpectrum(node, "albedo", params, "reflectance", SpectrumKind::Reflectance,
+                        Color3f(0.5f));
             return wrapper;
         }
         if (type == "coateddiffuse") {
             pugi::xml_node node = declare("bsdf");
             node.append_attribute("type") = "coateddiffuse";
-            addSpectrum(node, "reflectance", params, "reflectance", SpectrumKind::Reflectance, Color3f(0.5f));
+            addSpectrum(node, "reflectance", params, "reflectance", SpectrumKind::Reflectance,
+                        Color3f(0.5f));
             writeLayerRoughness(node, params, "", "roughness", "uRoughness", "vRoughness");
             addBoolean(node, "remapRoughness", params.getBool("remaproughness", true));
             addFloat(node, "eta", constantFloat(params, "eta", 1.5f));
@@ -951,8 +993,10 @@ private:
                 addColor(node, "eta", Color3f(1.0f));
                 addColor(node, "k", Color3f(2.0f * c.sqrt() / (Color3f(1.0f) - c).sqrt()));
             } else {
-                addSpectrum(node, "eta", params, "eta", SpectrumKind::Unbounded, namedRGB("metal-Cu-eta"));
-                addSpectrum(node, "k", params, "k", SpectrumKind::Unbounded, namedRGB("metal-Cu-k"));
+                addSpectrum(node, "eta", params, "eta", SpectrumKind::Unbounded,
+                            namedRGB("metal-Cu-eta"));
+                addSpectrum(node, "k", params, "k", SpectrumKind::Unbounded,
+                            namedRGB("metal-Cu-k"));
             }
             addFloat(node, "extIOR", 1.0f);
             return wrapper;
@@ -976,7 +1020,8 @@ private:
         if (type == "diffusetransmission") {
             pugi::xml_node node = declare("bsdf");
             node.append_attribute("type") = "diffusetransmission";
-            addSpectrum(node, "reflectance", params, "reflectance", SpectrumKind::Reflectance, Color3f(0.25f));
+            addSpectrum(node, "reflectance", params, "reflectance", SpectrumKind::Reflectance,
+                        Color3f(0.25f));
             addSpectrum(node, "transmittance", params, "transmittance", SpectrumKind::Reflectance,
                         Color3f(0.25f));
             addFloat(node, "scale", params.getFloat("scale", 1.0f));
@@ -1053,8 +1098,9 @@ private:
         return defaultValue;
     }
 
-    void writeLayerRoughness(pugi::xml_node node, const Parameters &params, const std::string &prefix,
-                             const char *both, const char *u, const char *v) {
+    void writeLayerRoughness(pugi::xml_node node, const Parameters &params,
+                             const std::string &prefix, const char *both, const char *u,
+                             const char *v) {
         if (params.has(prefix + "roughness"))
             addFloatTexture(node, both, params, prefix + "roughness", 0.0f);
         if (params.has(prefix + "uroughness"))
@@ -1065,8 +1111,8 @@ private:
 
     void writeLayerMedium(pugi::xml_node node, const Parameters &params) {
         addFloat(node, "thickness", constantFloat(params, "thickness", 0.01f));
-        const TextureValue albedo =
-            params.getSpectrum("albedo", SpectrumKind::Reflectance, Color3f(0.0f), m_options.sceneDirectory);
+        const TextureValue albedo = params.getSpectrum("albedo", SpectrumKind::Reflectance,
+                                                       Color3f(0.0f), m_options.sceneDirectory);
         if (albedo.isTexture())
             warn(params.entity().location, "albedo-texture",
                  fmt::format("{}: an albedo texture is used as 0", params.what()));
@@ -1085,8 +1131,8 @@ private:
             std::vector<std::string> known;
             for (const auto &entry : m_media)
                 known.push_back(entry.first);
-            throw LocatedError(where.str(), fmt::format("no medium named '{}'{}", name,
-                                                        didYouMean(name, known)));
+            throw LocatedError(
+                where.str(), fmt::format("no medium named '{}'{}", name, didYouMean(name, known)));
         }
         std::string id = "medium:" + name;
         if (m_declaredMedia.insert(id).second) {
@@ -1105,10 +1151,13 @@ private:
                  fmt::format("medium preset '{}': not known here; sigma_a and sigma_s (default 1) "
                              "are used",
                              params.getString("preset", "")));
-        const Color3f sigmaA = params.getSpectrum("sigma_a", SpectrumKind::Unbounded, Color3f(1.0f), dir).constant;
-        const Color3f sigmaS = params.getSpectrum("sigma_s", SpectrumKind::Unbounded, Color3f(1.0f), dir).constant;
+        const Color3f sigmaA =
+            params.getSpectrum("sigma_a", SpectrumKind::Unbounded, Color3f(1.0f), dir).constant;
+        const Color3f sigmaS =
+            params.getSpectrum("sigma_s", SpectrumKind::Unbounded, Color3f(1.0f), dir).constant;
         const float scale = params.getFloat("scale", 1.0f);
-        const TextureValue le = params.getSpectrum("Le", SpectrumKind::Illuminant, Color3f(0.0f), dir);
+        const TextureValue le =
+            params.getSpectrum("Le", SpectrumKind::Illuminant, Color3f(0.0f), dir);
         if ((le.constant != 0.0f).any() && params.getFloat("Lescale", 1.0f) != 0.0f)
             warn(medium.location, "Le", "medium emission (Le): not rendered");
         pugi::xml_node node = declare("medium");
@@ -1132,7 +1181,8 @@ private:
                                  medium.type, sigmaTGrey));
             node.append_attribute("type") = "heterogeneous";
             addFloat(node, "scale", scale * sigmaTGrey);
-            addColor(node, "albedo", sigmaTGrey > 0.0f ? Color3f(sigmaS / sigmaTGrey) : Color3f(0.0f));
+            addColor(node, "albedo",
+                     sigmaTGrey > 0.0f ? Color3f(sigmaS / sigmaTGrey) : Color3f(0.0f));
             if (medium.type == "nanovdb") {
                 addString(node, "filename", resolvePath(params.getString("filename", "")));
                 addString(node, "gridName", "density");
@@ -1148,7 +1198,8 @@ private:
 
     /// A uniformgrid's densities as a .vol file over its bounds [p0, p1].
     std::string writeDensityGrid(const Parameters &params) {
-        const int nx = params.getInt("nx", 1), ny = params.getInt("ny", 1), nz = params.getInt("nz", 1);
+        const int nx = params.getInt("nx", 1), ny = params.getInt("ny", 1),
+                  nz = params.getInt("nz", 1);
         std::vector<float> density = params.getFloats("density");
         if (nx <= 0 || ny <= 0 || nz <= 0 || density.size() != size_t(nx) * size_t(ny) * size_t(nz))
             throw LocatedError(params.entity().location.str(),
@@ -1181,14 +1232,16 @@ private:
             addRef(node, material.bsdfId);
         // Bump and normal maps: on pbrt-v4's material, on our shape.
         if (material.entity && material.entity->type != "mix") {
-            const Parameters materialParams(*material.entity, "material", materialNames().count(material.entity->type)
-                                                                             ? materialNames().at(material.entity->type)
-                                                                             : kMaterialCommon);
+            const Parameters materialParams(*material.entity, "material",
+                                            materialNames().count(material.entity->type)
+                                                ? materialNames().at(material.entity->type)
+                                                : kMaterialCommon);
             if (materialParams.has("displacement"))
                 addFloatTexture(node, "bump", materialParams, "displacement", 0.0f);
             if (materialParams.has("normalmap")) {
                 pugi::xml_node normalMap = addObject(node, "texture", "image", "normal");
-                addString(normalMap, "filename", resolvePath(materialParams.getString("normalmap", "")));
+                addString(normalMap, "filename",
+                          resolvePath(materialParams.getString("normalmap", "")));
                 addString(normalMap, "colorSpace", "linear");
             }
         }
@@ -1224,7 +1277,8 @@ private:
             if (const Parameter *names = material->find("materials"))
                 for (const std::string &name : names->strings) {
                     const auto it = m_scene.namedMaterials.find(name);
-                    if (it != m_scene.namedMaterials.end() && materialTextured(&it->second, depth + 1))
+                    if (it != m_scene.namedMaterials.end() &&
+                        materialTextured(&it->second, depth + 1))
                         return true;
                 }
         return false;
@@ -1235,18 +1289,21 @@ private:
         const std::string &type = shape.type;
         const Matrix &toWorld = shape.toWorld;
         const bool mirrors = toWorld.topLeftCorner<3, 3>().determinant() < 0.0;
-        const float phiMax = std::clamp(params.getFloat("phimax", 360.0f), 0.0f, 360.0f) * kPi / 180.0f;
+        const float phiMax =
+            std::clamp(params.getFloat("phimax", 360.0f), 0.0f, 360.0f) * kPi / 180.0f;
         if (type == "sphere") {
             const float radius = params.getFloat("radius", 1.0f);
-            const float zMin = params.getFloat("zmin", -radius), zMax = params.getFloat("zmax", radius);
+            const float zMin = params.getFloat("zmin", -radius),
+                        zMax = params.getFloat("zmax", radius);
             const bool partial = phiMax < 2.0f * kPi || std::min(zMin, zMax) > -radius ||
                                  std::max(zMin, zMax) < radius;
             // A uniform scale, rotation and translation keep a sphere a sphere.
             const Eigen::Matrix3d linear = toWorld.topLeftCorner<3, 3>();
             const double scale = std::cbrt(std::abs(linear.determinant()));
-            const bool similar = (linear.transpose() * linear - scale * scale * Eigen::Matrix3d::Identity())
-                                     .cwiseAbs()
-                                     .maxCoeff() <= 1e-5 * scale * scale;
+            const bool similar =
+                (linear.transpose() * linear - scale * scale * Eigen::Matrix3d::Identity())
+                    .cwiseAbs()
+                    .maxCoeff() <= 1e-5 * scale * scale;
             if (partial)
                 warn(shape.location, "partial-sphere",
                      "partial sphere (zmin, zmax, phimax): tessellated into triangles");
@@ -1264,7 +1321,8 @@ private:
             return writeMesh(parent, shape, tessellateSphere(radius, zMin, zMax, phiMax, 128));
         }
         if (type == "disk") {
-            const float height = params.getFloat("height", 0.0f), radius = params.getFloat("radius", 1.0f);
+            const float height = params.getFloat("height", 0.0f),
+                        radius = params.getFloat("radius", 1.0f);
             const float inner = params.getFloat("innerradius", 0.0f);
             if (inner > 0.0f || phiMax < 2.0f * kPi) {
                 warn(shape.location, "partial-disk",
@@ -1292,7 +1350,8 @@ private:
             if (phiMax < 2.0f * kPi || !round) {
                 warn(shape.location, "partial-cylinder",
                      "cylinder with phimax or an oval cross-section: tessellated into triangles");
-                return writeMesh(parent, shape, tessellateCylinder(radius, zMin, zMax, phiMax, 128));
+                return writeMesh(parent, shape,
+                                 tessellateCylinder(radius, zMin, zMax, phiMax, 128));
             }
             pugi::xml_node node = addObject(parent, "mesh", "cylinder");
             addPoint(node, "p0", transformPoint(toWorld, Vector3f(0.0f, 0.0f, zMin)));
@@ -1322,8 +1381,9 @@ private:
                 if (type == "loopsubdiv") {
                     const int levels = params.getInt("levels", 3);
                     if (levels < 0 || levels > 8)
-                        params.fail(*params.find("levels"),
-                                    fmt::format("shape 'loopsubdiv': levels {} is not in [0, 8]", levels));
+                        params.fail(
+                            *params.find("levels"),
+                            fmt::format("shape 'loopsubdiv': levels {} is not in [0, 8]", levels));
                     // Each level quadruples the triangles: refuse what no memory holds.
                     const double triangles = double(mesh.triangles.size()) * std::pow(4.0, levels);
                     if (triangles > 1e8)
@@ -1335,15 +1395,18 @@ private:
                 }
             }
             if (params.has("S"))
-                warn(shape.location, "tangents", "trianglemesh S (tangents): ours are computed from uv");
+                warn(shape.location, "tangents",
+                     "trianglemesh S (tangents): ours are computed from uv");
             if (params.has("faceIndices"))
-                warn(shape.location, "faceIndices", "faceIndices: not used (they select ptex faces)");
+                warn(shape.location, "faceIndices",
+                     "faceIndices: not used (they select ptex faces)");
             return writeMesh(parent, shape, std::move(mesh));
         }
         if (type == "plymesh") {
             const std::string filename = params.getString("filename", "");
             if (filename.empty())
-                throw LocatedError(shape.location.str(), "shape 'plymesh' needs a \"string filename\"");
+                throw LocatedError(shape.location.str(),
+                                   "shape 'plymesh' needs a \"string filename\"");
             if (params.has("displacement"))
                 warn(shape.location, "displacement",
                      "plymesh displacement: rendered as a bump map, not displaced geometry");
@@ -1377,14 +1440,14 @@ private:
 
     static void checkIndices(const Parameters &params, const std::vector<int> &indices, size_t per,
                              size_t vertexCount) {
-        const Location where = params.find("indices") ? params.find("indices")->location
-                                                      : params.entity().location;
+        const Location where =
+            params.find("indices") ? params.find("indices")->location : params.entity().location;
         if (indices.empty() || indices.size() % per != 0)
-            throw LocatedError(where.str(), fmt::format("{}: \"integer indices\" must hold {} per "
-                                                        "{}, got {}",
-                                                        params.what(), per,
-                                                        per == 3 ? "triangle" : "patch",
-                                                        indices.size()));
+            throw LocatedError(where.str(),
+                               fmt::format("{}: \"integer indices\" must hold {} per "
+                                           "{}, got {}",
+                                           params.what(), per, per == 3 ? "triangle" : "patch",
+                                           indices.size()));
         for (int index : indices)
             if (index < 0 || size_t(index) >= vertexCount)
                 throw LocatedError(where.str(), fmt::format("{}: index {} is not one of the {} "
@@ -1396,8 +1459,9 @@ private:
         MeshData mesh;
         const std::vector<float> p = params.getFloats("P");
         if (p.empty() || p.size() % 3 != 0)
-            throw LocatedError(params.entity().location.str(),
-                               fmt::format("{} needs \"point3 P\", x y z per vertex", params.what()));
+            throw LocatedError(
+                params.entity().location.str(),
+                fmt::format("{} needs \"point3 P\", x y z per vertex", params.what()));
         const size_t count = p.size() / 3;
         for (size_t i = 0; i < count; ++i)
             mesh.positions.emplace_back(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
@@ -1505,12 +1569,13 @@ private:
         if (params.has("power"))
             warn(light.location, "arealight-power",
                  "area light power: not applied (L and scale are)");
-        const TextureValue radiance =
-            params.getSpectrum("L", SpectrumKind::Illuminant, Color3f(1.0f), m_options.sceneDirectory);
+        const TextureValue radiance = params.getSpectrum("L", SpectrumKind::Illuminant,
+                                                         Color3f(1.0f), m_options.sceneDirectory);
         if (radiance.isTexture())
             params.fail(*params.find("L"), "area light: L must be a colour or a spectrum");
         pugi::xml_node node = addObject(shape, "emitter", "area");
-        addColor(node, "radiance", radiance.constant * (params.getFloat("scale", 1.0f) * m_imagingRatio));
+        addColor(node, "radiance",
+                 radiance.constant * (params.getFloat("scale", 1.0f) * m_imagingRatio));
         if (params.getBool("twosided", false))
             addBoolean(node, "twoSided", true);
     }
@@ -1523,7 +1588,8 @@ private:
         if (type == "point" || type == "goniometric" || type == "projection") {
             if (type != "point")
                 warn(light.location, "light-" + type,
-                     fmt::format("light '{}' is not supported: a point light of its I stands in", type));
+                     fmt::format("light '{}' is not supported: a point light of its I stands in",
+                                 type));
             const Color3f intensity =
                 params.getSpectrum("I", SpectrumKind::Illuminant, Color3f(1.0f), dir).constant;
             pugi::xml_node node = addObject(m_root, "emitter", "point");
@@ -1543,7 +1609,8 @@ private:
             pugi::xml_node node = addObject(m_root, "emitter", "spot");
             addPoint(node, "position",
                      transformPoint(m, params.getVector("from", Vector3f(0.0f, 0.0f, 0.0f))));
-            addPoint(node, "target", transformPoint(m, params.getVector("to", Vector3f(0.0f, 0.0f, 1.0f))));
+            addPoint(node, "target",
+                     transformPoint(m, params.getVector("to", Vector3f(0.0f, 0.0f, 1.0f))));
             addColor(node, "intensity", intensity * lightScale(params, "power", kE));
             addFloat(node, "cutoffAngle", cone);
             addFloat(node, "beamWidth", std::max(cone - delta, 0.0f));
@@ -1561,7 +1628,8 @@ private:
         }
         // infinite
         if (params.has("portal"))
-            warn(light.location, "portal", "infinite light portal: ignored (the whole sphere is sampled)");
+            warn(light.location, "portal",
+                 "infinite light portal: ignored (the whole sphere is sampled)");
         const std::string filename = params.getString("filename", "");
         if (filename.empty()) {
             const Color3f radiance =
@@ -1592,7 +1660,8 @@ private:
     pugi::xml_node m_scratch; ///< declarations being written (see declare)
     std::map<std::pair<std::string, std::string>, size_t> m_textures; ///< (value type, name)
     std::map<std::string, size_t> m_media;
-    std::set<std::string> m_declaredTextures, m_declaredMaterials, m_declaredMedia, m_definedObjects;
+    std::set<std::string> m_declaredTextures, m_declaredMaterials, m_declaredMedia,
+        m_definedObjects;
     int m_width = 1280, m_height = 720;
     float m_imagingRatio = 1.0f;
     float m_filmDiagonal = 35.0f; ///< mm, of the realistic camera's film

@@ -16,7 +16,8 @@ void Warnings::add(const Location &where, const std::string &feature, const std:
         m_lines.push_back(where.file.empty() ? message : where.str() + ": " + message);
 }
 
-Parameters::Parameters(const Entity &entity, std::string what, const std::vector<std::string> &known)
+Parameters::Parameters(const Entity &entity, std::string what,
+                       const std::vector<std::string> &known)
     : m_entity(entity), m_what(std::move(what)) {
     for (const Parameter &parameter : entity.parameters)
         if (std::find(known.begin(), known.end(), parameter.name) == known.end())
@@ -44,8 +45,8 @@ const Parameter &Parameters::typed(const std::string &name,
 namespace {
 
 /// The single value of a parameter that takes one.
-template <typename T> T single(const Parameters &params, const Parameter &parameter,
-                               const std::vector<T> &values) {
+template <typename T>
+T single(const Parameters &params, const Parameter &parameter, const std::vector<T> &values) {
     if (values.size() != 1)
         params.fail(parameter, fmt::format("{}: \"{} {}\" takes one value, got {}", params.what(),
                                            parameter.type, parameter.name, values.size()));
@@ -90,8 +91,8 @@ Vector3f Parameters::getVector(const std::string &name, const Vector3f &defaultV
         return defaultValue;
     const Parameter &p = typed(name, {"point3", "vector3", "normal3"});
     if (p.numbers.size() != 3)
-        fail(p, fmt::format("{}: \"{} {}\" takes one triple, got {} numbers", m_what, p.type,
-                            name, p.numbers.size()));
+        fail(p, fmt::format("{}: \"{} {}\" takes one triple, got {} numbers", m_what, p.type, name,
+                            p.numbers.size()));
     return Vector3f(float(p.numbers[0]), float(p.numbers[1]), float(p.numbers[2]));
 }
 
@@ -111,7 +112,8 @@ std::vector<int> Parameters::getInts(const std::string &name) const {
     values.reserve(p.numbers.size());
     for (double number : p.numbers) {
         if (number != std::floor(number) || std::abs(number) > 2e9)
-            fail(p, fmt::format("{}: \"integer {}\" holds {}, not an integer", m_what, name, number));
+            fail(p,
+                 fmt::format("{}: \"integer {}\" holds {}, not an integer", m_what, name, number));
         values.push_back(int(number));
     }
     return values;
@@ -174,21 +176,24 @@ PiecewiseLinearSpectrum spectrumOf(const Parameter &p, const std::string &direct
         const std::string &name = p.strings.front();
         if (isNamedSpectrum(name))
             return namedSpectrum(name);
-        const fs::path path = fs::path(name).is_absolute() ? fs::path(name) : fs::path(directory) / name;
+        const fs::path path =
+            fs::path(name).is_absolute() ? fs::path(name) : fs::path(directory) / name;
         if (!fs::exists(path))
-            throw NoriException("'{}' is neither one of pbrt-v4's named spectra{} nor a file "
-                                "(looked for {})",
-                                name, didYouMean(name, {"metal-Au-eta", "metal-Au-k", "metal-Ag-eta",
-                                                        "metal-Ag-k", "metal-Al-eta", "metal-Al-k",
-                                                        "metal-Cu-eta", "metal-Cu-k", "metal-CuZn-eta",
-                                                        "metal-CuZn-k", "glass-BK7", "glass-BAF10",
-                                                        "glass-F11", "stdillum-D65"}),
-                                path.string());
+            throw NoriException(
+                "'{}' is neither one of pbrt-v4's named spectra{} nor a file "
+                "(looked for {})",
+                name,
+                didYouMean(name, {"metal-Au-eta", "metal-Au-k", "metal-Ag-eta", "metal-Ag-k",
+                                  "metal-Al-eta", "metal-Al-k", "metal-Cu-eta", "metal-Cu-k",
+                                  "metal-CuZn-eta", "metal-CuZn-k", "glass-BK7", "glass-BAF10",
+                                  "glass-F11", "stdillum-D65"}),
+                path.string());
         return readSpectrumFile(path.string());
     } catch (const LocatedError &) {
         throw;
     } catch (const NoriException &error) {
-        throw LocatedError(p.location.str(), fmt::format("\"spectrum {}\": {}", p.name, error.what()));
+        throw LocatedError(p.location.str(),
+                           fmt::format("\"spectrum {}\": {}", p.name, error.what()));
     }
 }
 

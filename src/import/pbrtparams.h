@@ -74,7 +74,8 @@ public:
     [[noreturn]] void fail(const Parameter &parameter, const std::string &message) const;
 
 private:
-    const Parameter &typed(const std::string &name, std::initializer_list<const char *> types) const;
+    const Parameter &typed(const std::string &name,
+                           std::initializer_list<const char *> types) const;
 
     const Entity &m_entity;
     std::string m_what;

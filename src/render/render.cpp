@@ -53,8 +53,8 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
     // samples from its whole filter, past the edge.
     const bool sampleBorder = scene.getCamera()->samplesBorder();
     const bool importanceSampleFilter =
-        !splatting && (options.filterImportanceSampling || sampler.getMaxTolerance() > 0.0f ||
-                       sampleBorder);
+        !splatting &&
+        (options.filterImportanceSampling || sampler.getMaxTolerance() > 0.0f || sampleBorder);
     std::vector<Splat> sampleSplats;
     sampler.prepare(pass.beauty());
     if (decisionSampler)
@@ -81,10 +81,12 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
         if (!importanceSampleFilter)
             sample.position = Point2f(pixel.cast<float>() + generator.next2D());
         else if (sampleBorder)
-            sample.position = Point2f(centre + filterSampler.sample(generator.next2D(), sample.filterSign));
+            sample.position =
+                Point2f(centre + filterSampler.sample(generator.next2D(), sample.filterSign));
         else
-            sample.position = Point2f(centre + filterSampler.sample(generator.next2D(), sample.filterSign,
-                                                                    -centre, imageSize - centre));
+            sample.position =
+                Point2f(centre + filterSampler.sample(generator.next2D(), sample.filterSign,
+                                                      -centre, imageSize - centre));
         const Point2f apertureSample = generator.next2D();
         Ray3f ray;
         sample.value = scene.sampleCameraRay(ray, sample.position, apertureSample);
