@@ -5,6 +5,7 @@
 #include <nori/parser.h>
 #include <nori/pcg32.h>
 #include <nori/scene.h>
+#include <nori/spectrum.h>
 
 #include "testutil.h"
 
@@ -223,4 +224,111 @@ TEST_CASE("Thin-lens parameters are checked", "[camera][thinlens]") {
     CHECK_THAT(
         errorOf([] { makeCamera("thinlens", R"(<float name="focalDistance" value="0"/>)"); }),
         Contains("'focalDistance' must be positive, got 0"));
+}
+
+TEST_CASE("A crop renders the full image's pixels: rays, connections and densities",
+          "[camera][crop]") {
+    const std::string crop = R"(<integer name="cropOffsetX" value="10"/>
+        <integer name="cropOffsetY" value="7"/><integer name="cropWidth" value="30"/>
+        <integer name="cropHeight" value="20"/>)";
+    for (const std::string &lens :
+         {std::string(), std::string(R"(<float name="apertureRadius" value="0.2"/>
+              <float name="focalDistance" value="5"/>)")}) {
+        CAPTURE(lens);
+        auto full = makeCamera("perspective", lens);
+        auto cropped = makeCamera("perspective", lens + crop);
+        CHECK(cropped->getOutputSize() == Vector2i(30, 20));
+        CHECK(cropped->getFullSize() == Vector2i(64, 48));
+        PCG32 random(5, 6);
+        for (int i = 0; i < 500; ++i) {
+            const Point2f film(30.0f * random.nextFloat(), 20.0f * random.nextFloat());
+            const Point2f aperture(random.nextFloat(), random.nextFloat());
+            Ray3f a, b;
+            cropped->sampleRay(a, film, aperture);
+            full->sampleRay(b, Point2f(film + Point2f(10.0f, 7.0f)), aperture);
+            REQUIRE(a.o.isApprox(b.o, 1e-6f));
+            REQUIRE(a.d.isApprox(b.d, 1e-6f));
+            // The connection back to the film lands on the crop's own pixel, and the
+            // density is the full image's times its share of the film (1/A of a smaller A).
+            CameraConnection connection;
+            const Point3f target = b.o + 3.0f * b.d;
+            REQUIRE(cropped->connect(target, aperture, connection));
+            CHECK((connection.filmPosition - film).norm() < 1e-3f);
+            CameraConnection fullConnection;
+            REQUIRE(full->connect(target, aperture, fullConnection));
+            CHECK(connection.importance ==
+                  Approx(fullConnection.importance * (64.0 * 48.0) / (30.0 * 20.0)).epsilon(1e-5));
+            CHECK(
+                cropped->pdfDirection(b.o, b.d) ==
+                Approx(full->pdfDirection(b.o, b.d) * (64.0 * 48.0) / (30.0 * 20.0)).epsilon(1e-5));
+        }
+        // A point the full image sees outside the crop is not on the cropped film.
+        Ray3f corner;
+        full->sampleRay(corner, Point2f(2.0f, 2.0f), Point2f(0.5f, 0.5f));
+        CameraConnection outside;
+        CHECK(full->connect(corner.o + 3.0f * corner.d, Point2f(0.5f, 0.5f), outside));
+        CHECK_FALSE(cropped->connect(corner.o + 3.0f * corner.d, Point2f(0.5f, 0.5f), outside));
+    }
+    CHECK_THAT(errorOf([] {
+                   makeCamera("perspective", R"(<integer name="cropOffsetX" value="40"/>
+                       <integer name="cropWidth" value="30"/>)");
+               }),
+               Contains("the crop of 30 x 48 pixels at (40, 0) does not lie in the image of "
+                        "64 x 48 pixels"));
+}
+
+TEST_CASE("A screen window places the film on the plane at distance 1", "[camera][crop]") {
+    // ETH's convention (x not mirrored): the window's corners, in units of tan(fov/2) with
+    // x toward the image's right and y up, are where the image's corners look.
+    auto camera = std::dynamic_pointer_cast<Camera>(loadFromXMLString(
+        R"(<camera type="perspective"><integer name="width" value="64"/>
+            <integer name="height" value="48"/><float name="fov" value="40"/>
+            <string name="convention" value="eth"/>
+            <string name="screenWindow" value="-0.5 1.5 -0.2 1"/></camera>)"));
+    REQUIRE(camera);
+    const float t = std::tan(degToRad(20.0f));
+    auto direction = [&](float x, float y) {
+        Ray3f ray;
+        camera->sampleRay(ray, Point2f(x, y), Point2f(0.5f, 0.5f));
+        return Vector3f(ray.d / ray.d.z());
+    };
+    CHECK(direction(0.0f, 0.0f).isApprox(Vector3f(-0.5f * t, 1.0f * t, 1.0f), 1e-5f));
+    CHECK(direction(64.0f, 48.0f).isApprox(Vector3f(1.5f * t, -0.2f * t, 1.0f), 1e-5f));
+    // The default window spans the fov on the width, the height in proportion.
+    auto centred = makeCamera("perspective", R"(<string name="convention" value="eth"/>
+        <string name="screenWindow" value="-1 1 -0.75 0.75"/>)");
+    auto byDefault = makeCamera("perspective", R"(<string name="convention" value="eth"/>)");
+    Ray3f a, b;
+    centred->sampleRay(a, Point2f(3.5f, 40.25f), Point2f(0.5f, 0.5f));
+    byDefault->sampleRay(b, Point2f(3.5f, 40.25f), Point2f(0.5f, 0.5f));
+    CHECK(a.d.isApprox(b.d, 1e-6f));
+    CHECK_THAT(errorOf([] {
+                   makeCamera("perspective", R"(<string name="screenWindow" value="1 -1 0 1"/>)");
+               }),
+               Contains("'screenWindow' must be four finite numbers"));
+}
+
+TEST_CASE("White balance maps the illuminant's white to white, and nothing else changes",
+          "[camera][spectrum]") {
+    for (float temperature : {2500.0f, 3200.0f, 5000.0f, 9000.0f}) {
+        CAPTURE(temperature);
+        const Eigen::Matrix3f balance = whiteBalanceMatrix(temperature);
+        // The white of the daylight (or blackbody) illuminant, as linear sRGB of luminance 1.
+        const Eigen::Vector2d xy = daylightChromaticity(temperature);
+        const Color3f white =
+            xyzToLinearSRGB(xy.x() / xy.y(), 1.0, (1.0 - xy.x() - xy.y()) / xy.y());
+        const Eigen::Vector3f balanced = balance * white.matrix();
+        CHECK(balanced.isApprox(Eigen::Vector3f::Ones(), 1e-4f));
+    }
+    // D65 itself (6504 K) is balanced to itself: pbrt-v4's D(6500) is nearly no change.
+    CHECK(whiteBalanceMatrix(6500.0f).isApprox(Eigen::Matrix3f::Identity(), 2e-3f));
+    // A camera with a white balance passes samples through the matrix.
+    auto camera = makeCamera("perspective", R"(<float name="whiteBalance" value="3200"/>)");
+    REQUIRE(camera->balancesWhite());
+    const Color3f sample(0.2f, 0.5f, 0.9f);
+    CHECK(camera->sensorResponse(sample).matrix().isApprox(
+        whiteBalanceMatrix(3200.0f) * sample.matrix(), 1e-6f));
+    CHECK_FALSE(makeCamera("perspective", "")->balancesWhite());
+    CHECK_THAT(errorOf([] { whiteBalanceMatrix(-5.0f); }),
+               Contains("the temperature must be positive, got -5 K"));
 }

@@ -79,8 +79,16 @@ TEST_CASE("The camera's importance integrates to one over the image", "[lighttra
     // pixel's share is 1/N, so a splat of radiance L over N·spp paths averages to L. A
     // t-test (significance 0.01, fixed seed) of a uniform-sphere estimate against 1; the
     // control drops the 1/cos³θ (planted_importance's bug) and must be rejected.
+    // Also for a crop of the image and an off-centre screen window with pixels that are
+    // not square (A is then the crop's share of the window).
     for (const std::string &parameters :
-         {std::string(), std::string(R"(<float name="apertureRadius" value="0.2"/>)")}) {
+         {std::string(), std::string(R"(<float name="apertureRadius" value="0.2"/>)"),
+          std::string(
+              R"(<integer name="cropOffsetX" value="10"/><integer name="cropOffsetY" value="5"/>
+              <integer name="cropWidth" value="40"/><integer name="cropHeight" value="30"/>)"),
+          std::string(R"(<string name="screenWindow" value="-0.4 1.2 -0.9 0.3"/>
+              <integer name="cropOffsetX" value="3"/><integer name="cropWidth" value="50"/>
+              <float name="apertureRadius" value="0.2"/>)")}) {
         INFO("camera parameters: " << parameters);
         const std::shared_ptr<Camera> camera = makeCamera(parameters);
         Ray3f axis;

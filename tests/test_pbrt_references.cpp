@@ -148,8 +148,9 @@ GridVerdict compareGrids(const std::vector<GridMeans> &ours, const std::vector<G
 } // namespace
 
 TEST_CASE("grey pbrt-v4 scenes render as pbrt-v4 renders them", "[pbrt][reference]") {
-    for (const char *scene : {"cornell-grey", "materials-grey", "lights-grey", "textures-grey",
-                              "shapes-grey", "medium-grey", "instances-grey", "camera-grey"}) {
+    for (const char *scene :
+         {"cornell-grey", "materials-grey", "lights-grey", "textures-grey", "shapes-grey",
+          "medium-grey", "instances-grey", "camera-grey", "film-grey"}) {
         INFO(scene);
         const GridVerdict verdict = compareGrids(renderImported(scene), pbrtRenders(scene));
         INFO(verdict.report);
@@ -184,6 +185,36 @@ TEST_CASE("the pbrt-v4 reference comparison rejects a planted mapping bug",
                                             return xml.replace(begin, end - begin, "37.5");
                                         }),
                          references);
+        CHECK(verdict.failures > 0);
+    }
+}
+
+TEST_CASE("the pbrt-v4 reference comparison rejects a planted film mapping bug",
+          "[pbrt][reference][negative]") {
+    const std::vector<GridMeans> references = pbrtRenders("film-grey");
+    SECTION("no white balance") {
+        const GridVerdict verdict =
+            compareGrids(renderImported("film-grey",
+                                        [](std::string xml) {
+                                            const std::string from =
+                                                "<float name=\"whiteBalance\" value=\"3200\" />";
+                                            REQUIRE(xml.find(from) != std::string::npos);
+                                            return xml.replace(xml.find(from), from.size(), "");
+                                        }),
+                         references);
+        CHECK(verdict.failures > 0);
+    }
+    SECTION("the crop one pixel to the right") {
+        const GridVerdict verdict = compareGrids(
+            renderImported("film-grey",
+                           [](std::string xml) {
+                               const std::string from =
+                                   "<integer name=\"cropOffsetX\" value=\"8\" />";
+                               REQUIRE(xml.find(from) != std::string::npos);
+                               return xml.replace(xml.find(from), from.size(),
+                                                  "<integer name=\"cropOffsetX\" value=\"9\" />");
+                           }),
+            references);
         CHECK(verdict.failures > 0);
     }
 }

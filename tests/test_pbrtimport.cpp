@@ -120,6 +120,51 @@ Shape "sphere"
     }
 }
 
+TEST_CASE("pbrt-v4's crop window, pixel bounds and screen window map onto our camera",
+          "[pbrt][import]") {
+    auto header = [](const std::string &camera, const std::string &film) {
+        return "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [40] " + camera +
+               "\nFilm \"rgb\" \"integer xresolution\" [200] " + "\"integer yresolution\" [100] " +
+               film + "\nWorldBegin\n";
+    };
+    // Fractions rounded up to pixels (pbrt-v4's FilmBaseParameters), in either order.
+    const std::string cropped =
+        importPbrt("", header("", "\"float cropwindow\" [0.7 0.101 0.25 0.5]")).xml;
+    CHECK(importedNumber(cropped, "cropOffsetX") == 21);
+    CHECK(importedNumber(cropped, "cropWidth") == 140 - 21);
+    CHECK(importedNumber(cropped, "cropOffsetY") == 25);
+    CHECK(importedNumber(cropped, "cropHeight") == 25);
+    // Pixel bounds are clamped to the image; the crop window wins over them.
+    const std::string bounds =
+        importPbrt("", header("", "\"integer pixelbounds\" [-5 50 90 120]")).xml;
+    CHECK(importedNumber(bounds, "cropOffsetX") == 0);
+    CHECK(importedNumber(bounds, "cropWidth") == 50);
+    CHECK(importedNumber(bounds, "cropOffsetY") == 90);
+    CHECK(importedNumber(bounds, "cropHeight") == 10);
+    CHECK(importedNumber(importPbrt("", header("", "\"integer pixelbounds\" [0 10 0 10] "
+                                                   "\"float cropwindow\" [0.5 1 0 1]"))
+                             .xml,
+                         "cropOffsetX") == 100);
+    CHECK_THAT(importPbrt("").xml, !Contains("crop"));
+    CHECK_THAT(errorOf([&] { importPbrt("", header("", "\"float cropwindow\" [0.5 0.5 0 1]")); }),
+               Contains("test.pbrt:3:") && Contains("has no pixels"));
+    // A centred window of the image's aspect is our usual fov; any other is written out.
+    CHECK_THAT(importPbrt("", header("\"float screenwindow\" [-2 2 -1 1]", "")).xml,
+               !Contains("screenWindow"));
+    const std::string offAxis =
+        importPbrt("", header("\"float screenwindow\" [-1 3 -1 1]", "")).xml;
+    CHECK_THAT(offAxis, Contains("<string name=\"screenWindow\" value=\"-1 3 -1 1\""));
+    CHECK(importedNumber(offAxis, "fov") == Approx(40.0));
+    CHECK_THAT(importPbrt("", header("\"float frameaspectratio\" [1]", "")).xml,
+               Contains("<string name=\"screenWindow\" value=\"-1 1 -1 1\""));
+    CHECK_THAT(errorOf([&] { importPbrt("", header("\"float screenwindow\" [1 -1 0 1]", "")); }),
+               Contains("xmin < xmax"));
+    // White balance onto the camera; none unless asked.
+    CHECK(importedNumber(importPbrt("", header("", "\"float whitebalance\" [5000]")).xml,
+                         "whiteBalance") == 5000);
+    CHECK_THAT(importPbrt("").xml, !Contains("whiteBalance"));
+}
+
 TEST_CASE("pbrt-v4 files with mistakes give located errors with suggestions", "[pbrt][import]") {
     CHECK_THAT(importError("Material \"diffuse\" \"rgb reflectanse\" [0.5 0.5 0.5]\n"
                            "Shape \"sphere\"\n"),

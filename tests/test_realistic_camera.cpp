@@ -321,6 +321,31 @@ TEST_CASE("Ray differentials of the realistic camera span one pixel", "[camera][
     }
 }
 
+TEST_CASE("A cropped realistic camera traces the full image's rays", "[camera][realistic][crop]") {
+    auto full = makeRealistic(R"(<float name="focusDistance" value="4"/>)");
+    auto cropped = makeRealistic(R"(<float name="focusDistance" value="4"/>
+        <integer name="cropOffsetX" value="150"/><integer name="cropOffsetY" value="40"/>
+        <integer name="cropWidth" value="200"/><integer name="cropHeight" value="100"/>)");
+    CHECK(cropped->getOutputSize() == Vector2i(200, 100));
+    PCG32 random(8, 1);
+    int traced = 0;
+    for (int i = 0; i < 200; ++i) {
+        const Point2f film(200.0f * random.nextFloat(), 100.0f * random.nextFloat());
+        const Point2f aperture(random.nextFloat(), random.nextFloat());
+        Ray3f a, b;
+        const Color3f weightA = cropped->sampleRay(a, film, aperture);
+        const Color3f weightB =
+            full->sampleRay(b, Point2f(film + Point2f(150.0f, 40.0f)), aperture);
+        REQUIRE(weightA[0] == Approx(weightB[0]).epsilon(1e-6));
+        if (weightA[0] == 0.0f)
+            continue;
+        ++traced;
+        CHECK(a.o.isApprox(b.o, 1e-6f));
+        CHECK(a.d.isApprox(b.d, 1e-6f));
+    }
+    CHECK(traced > 100);
+}
+
 TEST_CASE("Lens files and realistic-camera parameters: clear errors", "[camera][realistic]") {
     auto parse = [](const std::string &text) { return parseLensPrescription(text, "lens.dat"); };
     CHECK_THAT(errorOf([&] { parse("# a comment\n29.475 3.76 1.67\n"); }),

@@ -7,6 +7,8 @@
 #include <nori/ray.h>
 #include <nori/rfilter.h>
 
+#include <optional>
+
 namespace nori {
 
 /// A connection from a point of the scene to the camera's lens (light tracing, BDPT's
@@ -69,7 +71,27 @@ public:
         return 0.0f;
     }
 
+    /// The size of the image rendered and written: the crop of the full image (see
+    /// getFullSize), or all of it.
     const Vector2i &getOutputSize() const { return m_outputSize; }
+    /// The image the camera projects onto, of which the output is the crop that starts at
+    /// getCropOffset() (the `cropOffsetX`, `cropOffsetY`, `cropWidth`, `cropHeight`
+    /// parameters, Mitsuba's film's names): a crop renders exactly those pixels of the
+    /// full image. Film positions given to and returned by a camera are pixels of the
+    /// output image.
+    const Vector2i &getFullSize() const { return m_fullSize; }
+    const Vector2i &getCropOffset() const { return m_cropOffset; }
+    /// Whether the camera's sensor white-balances (the `whiteBalance` parameter, a
+    /// temperature in K): the render loop then passes every sample's value through
+    /// sensorResponse. A linear map, it commutes with the film's filtering and averaging.
+    bool balancesWhite() const { return m_whiteBalance.has_value(); }
+    /// A sample's linear sRGB as the sensor records it: whiteBalanceMatrix(whiteBalance)
+    /// applied (what pbrt-v4's `whitebalance` film does); the value itself without one.
+    Color3f sensorResponse(const Color3f &value) const {
+        if (!m_whiteBalance)
+            return value;
+        return Color3f(Eigen::Vector3f(*m_whiteBalance * value.matrix()).array());
+    }
     const ReconstructionFilter *getReconstructionFilter() const { return m_rfilter.get(); }
     /// Whether a pixel at the image's edge sees the scene beyond the edge through its
     /// filter (the `sampleBorder` parameter), as pbrt-v4's film and Mitsuba 3's
@@ -106,12 +128,25 @@ protected:
     static const char *conventionName(Convention convention) {
         return convention == Convention::EPFL ? "epfl" : "eth";
     }
-    /// Reads `sampleBorder` (see samplesBorder).
-    void readSampleBorder(const PropertyList &props) {
-        m_sampleBorder = props.getBoolean("sampleBorder", false);
+    /// Reads what our cameras share of a film: `width` and `height` (1280 × 720 by
+    /// default), the crop (see getFullSize), `sampleBorder` (see samplesBorder) and
+    /// `whiteBalance` (see balancesWhite; 0, the default, for none). Throws NoriException
+    /// for a crop outside the image.
+    void readFilm(const PropertyList &props);
+    /// The film position `samplePosition` (pixels of the output image) as a fraction of
+    /// the full image: (0, 0) its top-left corner, (1, 1) its bottom-right one.
+    Point2f fullImageFraction(const Point2f &samplePosition) const {
+        return Point2f(
+            (samplePosition + m_cropOffset.cast<float>()).cwiseQuotient(m_fullSize.cast<float>()));
     }
+    /// The inverse of fullImageFraction: false when the position lies outside the output
+    /// image.
+    bool outputPosition(const Point2f &fraction, Point2f &samplePosition) const;
 
     Vector2i m_outputSize;
+    Vector2i m_fullSize;
+    Vector2i m_cropOffset = Vector2i::Zero();
+    std::optional<Eigen::Matrix3f> m_whiteBalance;
     std::shared_ptr<ReconstructionFilter> m_rfilter;
     std::shared_ptr<Medium> m_medium;
     bool m_sampleBorder = false;

@@ -59,4 +59,16 @@ Color3f reflectanceToRGB(const std::function<float(float)> &spectrum);
 /// The linear sRGB of CIE XYZ (IEC 61966-2-1).
 Color3f xyzToLinearSRGB(double x, double y, double z);
 
+/// The CIE xy chromaticity of the daylight illuminant pbrt-v4 calls D(T) (its Spectra::D):
+/// the temperature is corrected to the CCT of the current second radiation constant
+/// (T·1.4388/1.4380); from 4000 K the CIE daylight locus (CIE 15:2004, eq. 3.3–3.4, which
+/// pbrt-v4's spectrum reproduces to within 10⁻⁴ in x and y), below it a blackbody's.
+Eigen::Vector2d daylightChromaticity(double temperature);
+/// White balance (pbrt-v4's PixelSensor with a `whitebalance` temperature): the linear sRGB
+/// to linear sRGB matrix that maps what is white under the daylight illuminant of
+/// `temperature` (K; see daylightChromaticity) to sRGB's white, by von Kries scaling in
+/// Bradford's cone space (Lam 1985; PBR 4th ed. §5.4.2). Throws NoriException unless the
+/// temperature is finite and positive.
+Eigen::Matrix3f whiteBalanceMatrix(float temperature);
+
 } // namespace nori

@@ -21,6 +21,17 @@
  *   focalDistance   float  10        distance (along the view axis) of the sharp plane
  *   sampleBorder    boolean  false   edge pixels see beyond the image's edge through their
  *                                    filter (pbrt-v4's film; see camera.h)
+ *   screenWindow    string   (centred)  "left right bottom top": the film's extent on the
+ *                                    plane at distance 1, in units of tan(fov/2), x toward
+ *                                    the image's right and y up (pbrt-v4's screenwindow);
+ *                                    by default -1 1 -h h, h = height/width: fov spans the
+ *                                    width. An off-centre window shifts the view (a tilt-
+ *                                    shift lens); one of another aspect makes pixels that
+ *                                    are not square
+ *   cropOffsetX, cropOffsetY, cropWidth, cropHeight  integer  (none)  render and write only
+ *                                    this rectangle of pixels of the width × height image
+ *   whiteBalance    float    0       white-balance the sensor for a daylight illuminant of
+ *                                    this temperature in K (pbrt-v4's whitebalance); 0: not
  *
  * Also registered as: thinlens.
  *
@@ -34,6 +45,7 @@
  *   </camera>
  */
 #include <nori/camera.h>
+#include <nori/strutil.h>
 #include <nori/transform.h>
 #include <nori/warp.h>
 
@@ -43,14 +55,12 @@ namespace {
 class PerspectiveCamera : public Camera {
 public:
     explicit PerspectiveCamera(const PropertyList &props) {
-        m_outputSize.x() = props.getInteger("width", 1280);
-        m_outputSize.y() = props.getInteger("height", 720);
+        readFilm(props);
         m_fov = props.getFloat("fov", 30.0f);
         m_nearClip = props.getFloat("nearClip", 1e-4f);
         m_farClip = props.getFloat("farClip", 1e4f);
         m_cameraToWorld = props.getTransform("toWorld", Transform());
         m_convention = readConvention(props);
-        readSampleBorder(props);
         m_apertureRadius = props.getFloat(props.spelling("apertureRadius", {"lensRadius"}), 0.0f);
         m_focalDistance = props.getFloat("focalDistance", 10.0f);
         if (!(m_apertureRadius >= 0.0f) || !std::isfinite(m_apertureRadius))
@@ -68,7 +78,7 @@ public:
                                 m_nearClip, m_farClip);
 
         m_tanHalfFov = std::tan(degToRad(0.5f * m_fov));
-        m_aspect = static_cast<float>(m_outputSize.x()) / static_cast<float>(m_outputSize.y());
+        readScreenWindow(props);
         m_worldToCamera = m_cameraToWorld.inverse();
     }
 
@@ -109,13 +119,13 @@ public:
 
     Color3f sampleRay(Ray3f &ray, const Point2f &samplePosition,
                       const Point2f &apertureSample) const override {
-        // Film position to a point on the plane z = 1 of camera space; the horizontal
-        // field of view spans x in [-tan(fov/2), tan(fov/2)].
-        const float u = samplePosition.x() / static_cast<float>(m_outputSize.x());
-        const float v = samplePosition.y() / static_cast<float>(m_outputSize.y());
-        Vector3f d = Vector3f(filmX(u, m_convention) * m_tanHalfFov,
-                              (1.0f - 2.0f * v) * m_tanHalfFov / m_aspect, 1.0f)
-                         .normalized();
+        // Film position to a point of the screen window on the plane z = 1 of camera
+        // space (by default the horizontal field of view spans x in ±tan(fov/2)).
+        const Point2f fraction = fullImageFraction(samplePosition);
+        const float screenX = m_left + fraction.x() * (m_right - m_left);
+        const float screenY = m_top - fraction.y() * (m_top - m_bottom);
+        Vector3f d =
+            Vector3f(mirrored(screenX) * m_tanHalfFov, screenY * m_tanHalfFov, 1.0f).normalized();
         const Point3f origin = lensPoint(apertureSample);
         if (m_apertureRadius > 0.0f) {
             // Thin lens: from a point of the lens disk toward where the pinhole ray meets
@@ -135,12 +145,15 @@ public:
     }
 
     std::string toString() const override {
-        return fmt::format("PerspectiveCamera[size={}x{}, fov={}, nearClip={}, farClip={}, "
+        return fmt::format("PerspectiveCamera[size={}x{}, crop={}x{}+{}+{}, fov={}, "
+                           "screenWindow=[{}, {}] x [{}, {}], nearClip={}, farClip={}, "
                            "apertureRadius={}, focalDistance={}, convention={}, rfilter={}, "
                            "toWorld=\n{}]",
-                           m_outputSize.x(), m_outputSize.y(), m_fov, m_nearClip, m_farClip,
-                           m_apertureRadius, m_focalDistance, conventionName(m_convention),
-                           m_rfilter ? m_rfilter->toString() : "none", m_cameraToWorld.toString());
+                           m_fullSize.x(), m_fullSize.y(), m_outputSize.x(), m_outputSize.y(),
+                           m_cropOffset.x(), m_cropOffset.y(), m_fov, m_left, m_right, m_bottom,
+                           m_top, m_nearClip, m_farClip, m_apertureRadius, m_focalDistance,
+                           conventionName(m_convention), m_rfilter ? m_rfilter->toString() : "none",
+                           m_cameraToWorld.toString());
     }
 
 private:
@@ -150,26 +163,46 @@ private:
     bool filmPositionOf(const Point3f &lens, const Point3f &p, Point2f &filmPosition) const {
         const float focus = m_apertureRadius > 0.0f ? m_focalDistance : 1.0f;
         const Point3f onFocus = lens + (p - lens) * ((focus - lens.z()) / (p.z() - lens.z()));
-        const float x = onFocus.x() / (focus * m_tanHalfFov);
-        const float y = onFocus.y() * m_aspect / (focus * m_tanHalfFov);
-        const float u = m_convention == Convention::EPFL ? 0.5f * (1.0f - x) : 0.5f * (x + 1.0f);
-        const float v = 0.5f * (1.0f - y);
-        if (!(u >= 0.0f && u < 1.0f && v >= 0.0f && v < 1.0f))
-            return false;
-        filmPosition = Point2f(u * static_cast<float>(m_outputSize.x()),
-                               v * static_cast<float>(m_outputSize.y()));
-        // u just below 1 may round up to the width.
-        return filmPosition.x() < static_cast<float>(m_outputSize.x()) &&
-               filmPosition.y() < static_cast<float>(m_outputSize.y());
+        const float screenX = mirrored(onFocus.x() / (focus * m_tanHalfFov));
+        const float screenY = onFocus.y() / (focus * m_tanHalfFov);
+        return outputPosition(Point2f((screenX - m_left) / (m_right - m_left),
+                                      (m_top - screenY) / (m_top - m_bottom)),
+                              filmPosition);
     }
 
-    /// The film spans [−tan(fov/2), tan(fov/2)] × [−tan(fov/2)/aspect, ...] at distance 1
-    /// (for a thin lens: that film scaled to the plane of focus, seen from the lens point);
+    /// The output image spans its share of the screen window at distance 1 (for a thin
+    /// lens: that film scaled to the plane of focus, seen from the lens point), of area A;
     /// a ray at angle θ to the axis sees dω = cos³θ dA of it, so film positions uniform
     /// over the image send directions with density 1/(A cos³θ) (PBR 3rd ed., §16.1.1).
     float directionDensity(float cosTheta) const {
-        const float filmArea = 4.0f * m_tanHalfFov * m_tanHalfFov / m_aspect;
-        return 1.0f / (filmArea * cosTheta * cosTheta * cosTheta);
+        return 1.0f / (m_outputFilmArea * cosTheta * cosTheta * cosTheta);
+    }
+
+    /// Camera-space x of the screen's x (toward the image's right) and back: EPFL's
+    /// convention mirrors it (see Camera::Convention).
+    float mirrored(float x) const { return m_convention == Convention::EPFL ? -x : x; }
+
+    /// Reads `screenWindow` (its default from the image's aspect) and the area of the
+    /// output image on the plane z = 1.
+    void readScreenWindow(const PropertyList &props) {
+        const float halfHeight =
+            static_cast<float>(m_fullSize.y()) / static_cast<float>(m_fullSize.x());
+        m_left = -1.0f, m_right = 1.0f, m_bottom = -halfHeight, m_top = halfHeight;
+        if (props.has("screenWindow")) {
+            const std::vector<float> window =
+                toFloatList(props.getString("screenWindow"), "screenWindow");
+            if (window.size() != 4 || !(window[0] < window[1]) || !(window[2] < window[3]) ||
+                !std::isfinite(window[1] - window[0]) || !std::isfinite(window[3] - window[2]))
+                throw NoriException("perspective: 'screenWindow' must be four finite numbers "
+                                    "\"left right bottom top\" with left < right and bottom < "
+                                    "top, got \"{}\"",
+                                    props.getString("screenWindow"));
+            m_left = window[0], m_right = window[1], m_bottom = window[2], m_top = window[3];
+        }
+        const float cropShare = static_cast<float>(double(m_outputSize.x()) * m_outputSize.y() /
+                                                   (double(m_fullSize.x()) * m_fullSize.y()));
+        m_outputFilmArea =
+            (m_right - m_left) * (m_top - m_bottom) * m_tanHalfFov * m_tanHalfFov * cropShare;
     }
 
     /// The point of the lens (camera space) for an aperture sample: the centre for a
@@ -182,7 +215,9 @@ private:
     }
 
     float m_fov, m_nearClip, m_farClip, m_apertureRadius, m_focalDistance;
-    float m_tanHalfFov, m_aspect;
+    float m_tanHalfFov;
+    float m_left, m_right, m_bottom, m_top; ///< the screen window, in units of tan(fov/2)
+    float m_outputFilmArea;
     Transform m_cameraToWorld, m_worldToCamera;
     Convention m_convention;
 };

@@ -28,6 +28,10 @@
  *   convention        string     "epfl"      image x mirrored ("epfl") or not ("eth")
  *   sampleBorder      boolean    false       edge pixels see beyond the image's edge
  *                                            through their filter (pbrt-v4's film)
+ *   cropOffsetX, cropOffsetY, cropWidth, cropHeight  integer  (none)  render and write
+ *                                            only this rectangle of the width × height image
+ *   whiteBalance      float      0           white-balance the sensor for a daylight
+ *                                            illuminant of this temperature in K; 0: not
  *
  *   <camera type="realistic">
  *       <string name="lensFile" value="scenes/lenses/dgauss.50mm.dat"/>
@@ -53,10 +57,8 @@ public:
         m_apertureDiameter = props.getFloat("apertureDiameter", 0.0f);
         m_focusDistance = props.getFloat("focusDistance", 10.0f);
         m_filmDiagonal = props.getFloat("filmDiagonal", 35.0f);
-        m_outputSize.x() = props.getInteger("width", 1280);
-        m_outputSize.y() = props.getInteger("height", 720);
+        readFilm(props);
         m_cameraToWorld = props.getTransform("toWorld", Transform());
-        readSampleBorder(props);
         m_convention = readConvention(props);
 
         if (props.has("apertureDiameter") &&
@@ -74,7 +76,7 @@ public:
             std::make_unique<LensSystem>(readLensFile(m_lensFile), m_apertureDiameter, m_lensFile);
         m_lens->focusAt(m_focusDistance);
 
-        m_filmSize = filmExtent(1e-3 * m_filmDiagonal, m_outputSize.x(), m_outputSize.y());
+        m_filmSize = filmExtent(1e-3 * m_filmDiagonal, m_fullSize.x(), m_fullSize.y());
         // Focusing traced paraxial rays through every aperture, so light reaches the
         // film's centre and the weights' normalisation (axialIrradiance) is positive.
     }
@@ -126,10 +128,11 @@ public:
 
     std::string toString() const override {
         return fmt::format("RealisticCamera[lensFile=\"{}\", apertureDiameter={}, "
-                           "focusDistance={}, filmDiagonal={}, size={}x{}, convention={}, "
-                           "rfilter={}, toWorld=\n{}]",
+                           "focusDistance={}, filmDiagonal={}, size={}x{}, crop={}x{}+{}+{}, "
+                           "convention={}, rfilter={}, toWorld=\n{}]",
                            m_lensFile, m_apertureDiameter, m_focusDistance, m_filmDiagonal,
-                           m_outputSize.x(), m_outputSize.y(), conventionName(m_convention),
+                           m_fullSize.x(), m_fullSize.y(), m_outputSize.x(), m_outputSize.y(),
+                           m_cropOffset.x(), m_cropOffset.y(), conventionName(m_convention),
                            m_rfilter ? m_rfilter->toString() : "none", m_cameraToWorld.toString());
     }
 
@@ -138,8 +141,8 @@ private:
     /// image, so the point sits opposite to where its pixel looks: the top row low, and
     /// the left column on camera −x for EPFL's mirrored x (whose left looks along +x).
     Eigen::Vector3d filmPoint(const Point2f &samplePosition) const {
-        const float u = samplePosition.x() / static_cast<float>(m_outputSize.x());
-        const float v = samplePosition.y() / static_cast<float>(m_outputSize.y());
+        const Point2f fraction = fullImageFraction(samplePosition);
+        const float u = fraction.x(), v = fraction.y();
         return Eigen::Vector3d(-filmX(u, m_convention) * 0.5 * m_filmSize.x(),
                                -(1.0 - 2.0 * v) * 0.5 * m_filmSize.y(), 0.0);
     }

@@ -411,17 +411,18 @@ private:
                 fmt::format("film resolution {} × {} is not positive", m_width, m_height));
         m_result.outputName = film.getString("filename", "");
         m_filmDiagonal = film.getFloat("diagonal", 35.0f);
-        if (film.has("cropwindow") || film.has("pixelbounds"))
-            warn(m_scene.film.location, "cropwindow",
-                 "film cropwindow/pixelbounds: the whole image is rendered");
+        readCrop(film);
         const std::string sensor = film.getString("sensor", "cie1931");
         if (sensor != "cie1931")
             warn(m_scene.film.location, "sensor",
                  fmt::format("film sensor '{}': rendered with the CIE 1931 observer (sRGB)",
                              sensor));
-        if (film.getFloat("whitebalance", 0.0f) != 0.0f)
-            warn(m_scene.film.location, "whitebalance",
-                 "film whitebalance: not applied (the image is balanced for D65)");
+        // pbrt-v4 balances a cie1931 sensor only when asked (other sensors, at 6500 K by
+        // default, are our cie1931 stand-in, for which 6500 K is nearly no balance).
+        m_whiteBalance = film.getFloat("whitebalance", 0.0f);
+        if (m_whiteBalance < 0.0f || !std::isfinite(m_whiteBalance))
+            film.fail(*film.find("whitebalance"),
+                      fmt::format("film whitebalance {} K is not a temperature", m_whiteBalance));
         // pbrt-v4's imaging ratio (its PixelSensor): exposure time × ISO/100 scales the
         // image, the exposure time being the shutter's (close − open) unless the film gives
         // one; transport is linear, so the lights are scaled instead.
@@ -430,6 +431,40 @@ private:
             camera.getFloat("shutterclose", 1.0f) - camera.getFloat("shutteropen", 0.0f);
         m_imagingRatio =
             film.getFloat("exposuretime", shutter) * film.getFloat("iso", 100.0f) / 100.0f;
+    }
+
+    /// The pixels pbrt-v4 renders (its FilmBaseParameters): `cropwindow`, a fraction of
+    /// the image clamped to [0, 1] and rounded up to pixels, wins over `pixelbounds`,
+    /// which is clamped to the image.
+    void readCrop(const Parameters &film) {
+        m_crop = Eigen::AlignedBox2i(Eigen::Vector2i(0, 0), Eigen::Vector2i(m_width, m_height));
+        if (film.has("cropwindow")) {
+            const std::vector<float> window = film.getFloats("cropwindow");
+            if (window.size() != 4)
+                film.fail(*film.find("cropwindow"),
+                          fmt::format("film cropwindow takes 4 values, got {}", window.size()));
+            auto pixel = [](float fraction, int resolution) {
+                return int(std::ceil(float(resolution) * std::clamp(fraction, 0.0f, 1.0f)));
+            };
+            m_crop = Eigen::AlignedBox2i(
+                Eigen::Vector2i(pixel(std::min(window[0], window[1]), m_width),
+                                pixel(std::min(window[2], window[3]), m_height)),
+                Eigen::Vector2i(pixel(std::max(window[0], window[1]), m_width),
+                                pixel(std::max(window[2], window[3]), m_height)));
+        } else if (film.has("pixelbounds")) {
+            const std::vector<int> bounds = film.getInts("pixelbounds");
+            if (bounds.size() != 4)
+                film.fail(*film.find("pixelbounds"),
+                          fmt::format("film pixelbounds takes 4 values, got {}", bounds.size()));
+            m_crop = m_crop.intersection(Eigen::AlignedBox2i(
+                Eigen::Vector2i(bounds[0], bounds[2]), Eigen::Vector2i(bounds[1], bounds[3])));
+        }
+        const Eigen::Vector2i size = m_crop.max() - m_crop.min();
+        if (!(size.x() > 0 && size.y() > 0))
+            throw LocatedError(m_scene.film.location.str(),
+                               fmt::format("film crop [{}, {}) × [{}, {}) has no pixels",
+                                           m_crop.min().x(), m_crop.max().x(), m_crop.min().y(),
+                                           m_crop.max().y()));
     }
 
     void writeIntegrator() {
@@ -528,6 +563,15 @@ private:
         }
         addInteger(node, "width", m_width);
         addInteger(node, "height", m_height);
+        if (m_crop.min() != Eigen::Vector2i(0, 0) ||
+            m_crop.max() != Eigen::Vector2i(m_width, m_height)) {
+            addInteger(node, "cropOffsetX", m_crop.min().x());
+            addInteger(node, "cropOffsetY", m_crop.min().y());
+            addInteger(node, "cropWidth", m_crop.max().x() - m_crop.min().x());
+            addInteger(node, "cropHeight", m_crop.max().y() - m_crop.min().y());
+        }
+        if (m_whiteBalance != 0.0f)
+            addFloat(node, "whiteBalance", m_whiteBalance);
         // pbrt-v4's camera space has +x to the image's right: our "eth" convention.
         addString(node, "convention", "eth");
         // pbrt-v4 samples each pixel from its whole filter, past the image's edge.
@@ -542,6 +586,9 @@ private:
         // pbrt-v4's screen window (PBR 4th ed. §5.1.3): [−a, a] × [−1, 1] for a wide image
         // of aspect a, [−1, 1] × [−1/a, 1/a] for a tall one, in units of tan(fov/2).
         const float aspect = params.getFloat("frameaspectratio", float(m_width) / float(m_height));
+        if (!(aspect > 0.0f) || !std::isfinite(aspect))
+            params.fail(*params.find("frameaspectratio"),
+                        fmt::format("camera frameaspectratio {} is not positive", aspect));
         std::vector<float> window =
             aspect > 1.0f ? std::vector<float>{-aspect, aspect, -1.0f, 1.0f}
                           : std::vector<float>{-1.0f, 1.0f, -1.0f / aspect, 1.0f / aspect};
@@ -553,22 +600,30 @@ private:
         }
         const float halfWidth = 0.5f * (window[1] - window[0]);
         const float halfHeight = 0.5f * (window[3] - window[2]);
-        if (std::abs(window[0] + window[1]) > 1e-6f * halfWidth ||
-            std::abs(window[2] + window[3]) > 1e-6f * halfHeight)
-            warn(params.entity().location, "screenwindow",
-                 "camera screenwindow off the axis: rendered centred");
-        if (std::abs(halfWidth / halfHeight - float(m_width) / float(m_height)) >
-            1e-4f * float(m_width) / float(m_height))
-            warn(params.entity().location, "pixelaspect",
-                 "camera screen window and resolution of different aspect ratios (pixels that "
-                 "are not square): the vertical field of view is the resolution's");
+        if (!(halfWidth > 0.0f && halfHeight > 0.0f))
+            params.fail(*params.find("screenwindow"),
+                        "camera: \"float screenwindow\" needs xmin < xmax and ymin < ymax");
         const double fov = params.getFloat("fov", 90.0f);
         if (!(fov > 0.0 && fov < 180.0))
             params.fail(*params.find("fov"), fmt::format("camera fov {} is not in (0, 180)", fov));
-        const double horizontal =
-            2.0 * std::atan(std::tan(fov * 3.14159265358979323846 / 360.0) * halfWidth) * 180.0 /
-            3.14159265358979323846;
-        addFloat(node, "fov", float(horizontal));
+        const bool centred = std::abs(window[0] + window[1]) <= 1e-6f * halfWidth &&
+                             std::abs(window[2] + window[3]) <= 1e-6f * halfHeight;
+        const float imageAspect = float(m_width) / float(m_height);
+        const bool squarePixels =
+            std::abs(halfWidth / halfHeight - imageAspect) <= 1e-4f * imageAspect;
+        if (centred && squarePixels) {
+            // The common case, written as our fov on the image's width.
+            const double horizontal =
+                2.0 * std::atan(std::tan(fov * 3.14159265358979323846 / 360.0) * halfWidth) *
+                180.0 / 3.14159265358979323846;
+            addFloat(node, "fov", float(horizontal));
+        } else {
+            // Off-centre, or pixels that are not square: pbrt-v4's window as it is, in
+            // the same units of tan(fov/2).
+            addFloat(node, "fov", float(fov));
+            addString(node, "screenWindow",
+                      fmt::format("{} {} {} {}", window[0], window[1], window[2], window[3]));
+        }
         addFloat(node, "farClip", 1e30f);
         if (params.getFloat("lensradius", 0.0f) > 0.0f) {
             addFloat(node, "lensRadius", params.getFloat("lensradius", 0.0f));
@@ -1664,6 +1719,8 @@ private:
         m_definedObjects;
     int m_width = 1280, m_height = 720;
     float m_imagingRatio = 1.0f;
+    Eigen::AlignedBox2i m_crop;   ///< the pixels rendered, of the m_width × m_height image
+    float m_whiteBalance = 0.0f;  ///< K; 0: none
     float m_filmDiagonal = 35.0f; ///< mm, of the realistic camera's film
     int m_sideFiles = 0, m_images = 0;
 };

@@ -189,4 +189,46 @@ Color3f reflectanceToRGB(const std::function<float(float)> &spectrum) {
     return xyzToLinearSRGB(xyz[0] / normaliser, xyz[1] / normaliser, xyz[2] / normaliser);
 }
 
+Eigen::Vector2d daylightChromaticity(double temperature) {
+    const double cct = temperature * 1.4388 / 1.4380;
+    if (cct < 4000.0) {
+        // The daylight locus is not defined here: a blackbody of that temperature.
+        double xyz[3], normaliser;
+        integrateCie([cct](float lambda) { return static_cast<float>(planck(lambda, cct)); },
+                     [](float) { return 1.0; }, xyz, normaliser);
+        const double sum = xyz[0] + xyz[1] + xyz[2];
+        return {xyz[0] / sum, xyz[1] / sum};
+    }
+    const double t = 1e3 / cct; // the locus as a cubic in 1000/T
+    const double x = cct <= 7000.0 ? -4.6070 * t * t * t + 2.9678 * t * t + 0.09911 * t + 0.244063
+                                   : -2.0064 * t * t * t + 1.9018 * t * t + 0.24748 * t + 0.237040;
+    return {x, -3.0 * x * x + 2.870 * x - 0.275};
+}
+
+Eigen::Matrix3f whiteBalanceMatrix(float temperature) {
+    if (!(temperature > 0.0f) || !std::isfinite(temperature))
+        throw NoriException("white balance: the temperature must be positive, got {} K",
+                            temperature);
+    // Bradford's cone responses from XYZ (Lam 1985).
+    Eigen::Matrix3d lmsFromXyz;
+    lmsFromXyz << 0.8951, 0.2664, -0.1614, -0.7502, 1.7135, 0.0367, 0.0389, -0.0685, 1.0296;
+    // sRGB's XYZ from linear RGB: the inverse of xyzToLinearSRGB's matrix.
+    Eigen::Matrix3d rgbFromXyz;
+    rgbFromXyz << 3.2404542, -1.5371385, -0.4985314, -0.9692660, 1.8760108, 0.0415560, 0.0556434,
+        -0.2040259, 1.0572252;
+    const Eigen::Matrix3d xyzFromRgb = rgbFromXyz.inverse();
+    // XYZ of luminance 1 at chromaticity xy.
+    auto whiteOf = [](const Eigen::Vector2d &xy) {
+        return Eigen::Vector3d(xy.x() / xy.y(), 1.0, (1.0 - xy.x() - xy.y()) / xy.y());
+    };
+    // The target is the colour space's white as pbrt-v4 takes it: D65's spectrum's xy.
+    const Eigen::Vector3d targetXyz = xyzFromRgb * Eigen::Vector3d::Ones();
+    const Eigen::Vector3d sourceLms = lmsFromXyz * whiteOf(daylightChromaticity(temperature));
+    const Eigen::Vector3d targetLms =
+        lmsFromXyz * whiteOf(Eigen::Vector2d(targetXyz.x(), targetXyz.y()) / targetXyz.sum());
+    const Eigen::Matrix3d balance =
+        lmsFromXyz.inverse() * targetLms.cwiseQuotient(sourceLms).asDiagonal() * lmsFromXyz;
+    return (rgbFromXyz * balance * xyzFromRgb).cast<float>();
+}
+
 } // namespace nori

@@ -1,4 +1,5 @@
 #include <nori/camera.h>
+#include <nori/spectrum.h>
 
 namespace nori {
 
@@ -20,6 +21,35 @@ Camera::Convention Camera::readConvention(const PropertyList &props) {
     throw NoriException("'convention' must be \"epfl\" (image x mirrored, Nori 2's default) "
                         "or \"eth\" (not mirrored), got '{}'",
                         name);
+}
+
+void Camera::readFilm(const PropertyList &props) {
+    m_fullSize = Vector2i(props.getInteger("width", 1280), props.getInteger("height", 720));
+    m_cropOffset = Vector2i(props.getInteger("cropOffsetX", 0), props.getInteger("cropOffsetY", 0));
+    m_outputSize = Vector2i(props.getInteger("cropWidth", m_fullSize.x() - m_cropOffset.x()),
+                            props.getInteger("cropHeight", m_fullSize.y() - m_cropOffset.y()));
+    if ((m_cropOffset.array() < 0).any() || (m_outputSize.array() < 1).any() ||
+        ((m_cropOffset + m_outputSize).array() > m_fullSize.array()).any())
+        throw NoriException("the crop of {} x {} pixels at ({}, {}) does not lie in the image "
+                            "of {} x {} pixels",
+                            m_outputSize.x(), m_outputSize.y(), m_cropOffset.x(), m_cropOffset.y(),
+                            m_fullSize.x(), m_fullSize.y());
+    m_sampleBorder = props.getBoolean("sampleBorder", false);
+    const float temperature = props.getFloat("whiteBalance", 0.0f);
+    if (temperature != 0.0f)
+        m_whiteBalance = whiteBalanceMatrix(temperature);
+}
+
+bool Camera::outputPosition(const Point2f &fraction, Point2f &samplePosition) const {
+    if (!(fraction.x() >= 0.0f && fraction.x() < 1.0f && fraction.y() >= 0.0f &&
+          fraction.y() < 1.0f))
+        return false;
+    samplePosition =
+        Point2f(fraction.cwiseProduct(m_fullSize.cast<float>()) - m_cropOffset.cast<float>());
+    // A fraction just below 1 may round up to the edge.
+    return samplePosition.x() >= 0.0f && samplePosition.y() >= 0.0f &&
+           samplePosition.x() < static_cast<float>(m_outputSize.x()) &&
+           samplePosition.y() < static_cast<float>(m_outputSize.y());
 }
 
 void Camera::activate() {

@@ -61,6 +61,7 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
         decisionSampler->prepare(pass.beauty());
     const uint32_t decisionCount = decisionSamplesFor(range.end - range.first);
     const Vector2f imageSize = film.size().cast<float>();
+    const Camera &camera = *scene.getCamera();
 
     // One sample of `pixel` from `generator`: its film position, the filter's sign there,
     // its value, and (when wanted) its surface AOVs.
@@ -105,6 +106,13 @@ bool renderBlockPass(const Scene &scene, Sampler &sampler, Sampler *decisionSamp
                     splat.position = sample.position;
                     splat.value *= cameraWeight;
                 }
+            // The sensor's white balance, a linear map: per sample, so that the variance
+            // and adaptive sampling see the image that is written.
+            if (camera.balancesWhite()) {
+                sample.value = camera.sensorResponse(sample.value);
+                for (Splat &splat : sampleSplats)
+                    splat.value = camera.sensorResponse(splat.value);
+            }
         }
         return sample;
     };
