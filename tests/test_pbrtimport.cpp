@@ -371,6 +371,27 @@ Shape "sphere"
     CHECK(xml.find("id=\"texture:checks\"") < xml.find("<!-- the scene -->"));
 }
 
+TEST_CASE("pbrt-v4's image encodings: sRGB, linear, gamma G, for 8-bit images only",
+          "[pbrt][import]") {
+    auto imported = [](const std::string &file, const std::string &encoding) {
+        return importPbrt("Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"" + file +
+                          "\" " + encoding +
+                          "\nMaterial \"diffuse\" \"texture reflectance\" \"t\"\n"
+                          "Shape \"sphere\"\n")
+            .xml;
+    };
+    CHECK_THAT(imported("a.png", "\"string encoding\" \"gamma 2.2\""),
+               Contains("<float name=\"gamma\" value=\"2.2\"") && !Contains("colorSpace"));
+    CHECK_THAT(imported("a.tga", ""), Contains("\"linear\""));
+    CHECK_THAT(imported("a.tga", "\"string encoding\" \"sRGB\""), Contains("\"srgb\""));
+    CHECK_THAT(imported("a.exr", "\"string encoding\" \"sRGB\""),
+               Contains("\"linear\"") && !Contains("\"srgb\""));
+    CHECK_THAT(imported("a.exr", "\"string encoding\" \"gamma 2.2\""),
+               Contains("\"linear\"") && !Contains("gamma"));
+    CHECK_THAT(errorOf([&] { imported("a.png", "\"string encoding\" \"gama 2.2\""); }),
+               Contains("test.pbrt:7:") && Contains("'gama 2.2' is not"));
+}
+
 TEST_CASE("a pbrt-v4 camera inside a medium gets that medium", "[pbrt][import]") {
     const std::string header = R"(
 MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [0.1 0.1 0.1]

@@ -119,6 +119,28 @@ TEST_CASE("8-bit images decode from sRGB: 128 becomes 0.21586", "[texture]") {
         <string name="filter" value="nearest"/></texture>)",
                                dir.path().string());
     CHECK(texture->eval(TextureQuery(Point2f(0.5f, 0.5f))).isApprox(value(0, 0)));
+    // A power law: 128/255 to the 2.2, and gamma -1 is sRGB (Mitsuba's spelling).
+    const auto gamma = loadTextureImage(file, ColorSpace::Gamma, 2.2f);
+    CHECK(gamma->level(0)(0, 0).r() == Approx(std::pow(128.0f / 255.0f, 2.2f)).epsilon(1e-5));
+    CHECK(loadTextureImage(file, ColorSpace::Gamma, 1.8f) != gamma);
+    auto byGamma = [&](const std::string &parameters) {
+        return loadTexture(R"(<texture type="image"><string name="filename" value="grey.png"/>
+            <string name="filter" value="nearest"/>)" +
+                               parameters + "</texture>",
+                           dir.path().string())
+            ->eval(TextureQuery(Point2f(0.5f, 0.5f)))
+            .r();
+    };
+    CHECK(byGamma(R"(<float name="gamma" value="2.2"/>)") ==
+          Approx(std::pow(128.0f / 255.0f, 2.2f)).epsilon(1e-5));
+    CHECK(byGamma(R"(<float name="gamma" value="-1"/>)") == Approx(0.21586f).epsilon(1e-4));
+    CHECK_THAT(errorOf([&] { byGamma(R"(<float name="gamma" value="0"/>)"); }),
+               Catch::Contains("'gamma' must lie in (0, 16]"));
+    CHECK_THAT(
+        errorOf([&] {
+            byGamma(R"(<float name="gamma" value="2"/><string name="colorSpace" value="srgb"/>)");
+        }),
+        Catch::Contains("give 'colorSpace' or 'gamma', not both"));
 }
 
 TEST_CASE("Trilinear filtering mixes the two levels around the footprint", "[texture][mipmap]") {

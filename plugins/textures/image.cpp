@@ -11,6 +11,9 @@
  *                                         srgb for 8/16-bit colour images, linear for
  *                                         float images (HDR, EXR) and in data slots
  *                                         (normal, bump, roughness)
+ *   gamma          float    (none)        decode by a power law, value^gamma, instead of
+ *                                         colorSpace (pbrt-v4's "gamma G" encoding,
+ *                                         Mitsuba's gamma; there -1 means srgb, 1 linear)
  *   wrap           string   "repeat"      outside [0, 1]²: "repeat", "clamp" or "mirror"
  *   uvScale        vector   (1, 1)        uv are scaled by this (a <float> scales both) ...
  *   uvOffset       vector   (0, 0)        ... then offset by this
@@ -43,6 +46,18 @@ public:
     explicit ImageTexture(const PropertyList &props) {
         m_filename = props.getPath("filename");
         m_colorSpace = parseColorSpace(props.getString("colorSpace", "auto"));
+        if (props.has("gamma")) {
+            if (props.has("colorSpace"))
+                throw NoriException("image: give 'colorSpace' or 'gamma', not both");
+            m_gamma = props.getFloat("gamma");
+            if (m_gamma == -1.0f)
+                m_colorSpace = ColorSpace::SRGB;
+            else if (m_gamma > 0.0f && m_gamma <= 16.0f)
+                m_colorSpace = ColorSpace::Gamma;
+            else
+                throw NoriException("image: 'gamma' must lie in (0, 16], or be -1 (sRGB), got {}",
+                                    m_gamma);
+        }
         m_wrap = parseWrap(props.getString("wrap", "repeat"));
         m_uvScale = props.holdsScalar("uvScale")
                         ? Vector2f::Constant(props.getFloat("uvScale"))
@@ -55,7 +70,7 @@ public:
         if (!(m_maxAnisotropy >= 1.0f && m_maxAnisotropy <= 64.0f))
             throw NoriException("image: 'maxAnisotropy' must be in [1, 64], got {}",
                                 m_maxAnisotropy);
-        m_mipmap = loadTextureImage(m_filename, m_colorSpace);
+        m_mipmap = loadTextureImage(m_filename, m_colorSpace, m_gamma);
     }
 
     Color3f eval(const TextureQuery &q) const override {
@@ -153,6 +168,7 @@ private:
 
     std::string m_filename;
     ColorSpace m_colorSpace;
+    float m_gamma = 1.0f; ///< the exponent of ColorSpace::Gamma
     MIPMap::Wrap m_wrap;
     Vector2f m_uvScale, m_uvOffset;
     MIPMap::Filter m_filter;

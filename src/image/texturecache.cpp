@@ -4,13 +4,16 @@
 
 #include <map>
 #include <mutex>
+#include <tuple>
 
 namespace nori {
 
 namespace {
 
-/// The decoded image as texture values: sRGB decoding where the colour space asks for it.
-Bitmap textureValues(ImageFile file, ColorSpace colorSpace, const std::string &filename) {
+/// The decoded image as texture values: sRGB or power-law decoding where the colour space
+/// asks for it.
+Bitmap textureValues(ImageFile file, ColorSpace colorSpace, float gamma,
+                     const std::string &filename) {
     const bool decodeSRGB =
         colorSpace == ColorSpace::SRGB || (colorSpace == ColorSpace::Auto && file.integerEncoded);
     for (int y = 0; y < file.pixels.height(); ++y)
@@ -21,21 +24,26 @@ Bitmap textureValues(ImageFile file, ColorSpace colorSpace, const std::string &f
                                     filename, x, y);
             if (decodeSRGB)
                 pixel = pixel.toLinearRGB();
+            else if (colorSpace == ColorSpace::Gamma)
+                pixel = pixel.max(0.0f).pow(gamma);
         }
     return std::move(file.pixels);
 }
 
 } // namespace
 
-std::shared_ptr<const MIPMap> loadTextureImage(const std::string &filename, ColorSpace colorSpace) {
+std::shared_ptr<const MIPMap> loadTextureImage(const std::string &filename, ColorSpace colorSpace,
+                                               float gamma) {
+    if (colorSpace != ColorSpace::Gamma)
+        gamma = 1.0f;
     static std::mutex mutex;
-    static std::map<std::pair<std::string, ColorSpace>, std::weak_ptr<const MIPMap>> cache;
-    const auto key = std::make_pair(canonicalPathOrSame(filename), colorSpace);
+    static std::map<std::tuple<std::string, ColorSpace, float>, std::weak_ptr<const MIPMap>> cache;
+    const auto key = std::make_tuple(canonicalPathOrSame(filename), colorSpace, gamma);
     std::lock_guard<std::mutex> lock(mutex);
     if (auto cached = cache[key].lock())
         return cached;
     auto mipmap = std::make_shared<const MIPMap>(
-        textureValues(readImageFile(filename), colorSpace, filename));
+        textureValues(readImageFile(filename), colorSpace, gamma, filename));
     cache[key] = mipmap;
     return mipmap;
 }

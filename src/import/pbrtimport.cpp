@@ -662,6 +662,33 @@ private:
 
     // ---- textures ----
 
+    /// pbrt-v4's `encoding` of an image texture: "sRGB" (the default for PNG files),
+    /// "linear" (for every other format), "gamma G". It decodes 8-bit images only:
+    /// float formats (EXR, PFM, HDR) are linear whatever it says.
+    void writeEncoding(pugi::xml_node image, const Parameters &params,
+                       const std::string &filename) {
+        const std::string extension = toLower(fs::path(filename).extension().string());
+        const std::string encoding =
+            params.getString("encoding", extension == ".png" ? "sRGB" : "linear");
+        float gamma = 0.0f;
+        if (encoding != "sRGB" && encoding != "linear") {
+            std::istringstream words(encoding);
+            std::string keyword, extra;
+            if (!(words >> keyword >> gamma) || keyword != "gamma" || (words >> extra) ||
+                !(gamma > 0.0f && gamma <= 16.0f))
+                params.fail(*params.find("encoding"),
+                            fmt::format("image encoding '{}' is not \"sRGB\", \"linear\" or "
+                                        "\"gamma G\" with G in (0, 16]",
+                                        encoding));
+        }
+        if (extension == ".exr" || extension == ".pfm" || extension == ".hdr")
+            addString(image, "colorSpace", "linear");
+        else if (gamma > 0.0f)
+            addFloat(image, "gamma", gamma);
+        else
+            addString(image, "colorSpace", encoding == "sRGB" ? "srgb" : "linear");
+    }
+
     /// The id of the declared texture `name` of `valueType`, declared on first use.
     std::string textureId(const std::string &name, const std::string &valueType,
                           const Location &where, int depth = 0) {
@@ -803,19 +830,7 @@ private:
         pugi::xml_node image = declare("texture");
         image.append_attribute("type") = "image";
         addString(image, "filename", resolvePath(filename));
-        // pbrt-v4 decodes PNG files from sRGB and takes every other format as linear,
-        // unless `encoding` says otherwise.
-        const std::string encoding =
-            params.getString("encoding", endsWith(toLower(filename), ".png") ? "sRGB" : "linear");
-        if (encoding == "sRGB") {
-            addString(image, "colorSpace", "srgb");
-        } else if (encoding == "linear") {
-            addString(image, "colorSpace", "linear");
-        } else {
-            warn(texture.location, "encoding",
-                 fmt::format("image encoding '{}': decoded as sRGB", encoding));
-            addString(image, "colorSpace", "srgb");
-        }
+        writeEncoding(image, params, filename);
         const std::string wrap = params.getString("wrap", "repeat");
         if (wrap == "repeat" || wrap == "clamp") {
             addString(image, "wrap", wrap);
