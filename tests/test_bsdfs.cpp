@@ -59,6 +59,10 @@ const std::vector<std::string> kGlossyBSDFs = {
     R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.5"/><string name="material" value="Au"/></bsdf>)",
     R"(<bsdf type="roughdielectric"><string name="distribution" value="beckmann"/><float name="alpha" value="0.2"/></bsdf>)",
     R"(<bsdf type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.6"/><float name="intIOR" value="1.33"/></bsdf>)",
+    // Anisotropic, and roughness remapped as pbrt-v4 does (α = √r).
+    R"(<bsdf type="roughconductor"><float name="alphaU" value="0.08"/><float name="alphaV" value="0.5"/></bsdf>)",
+    R"(<bsdf type="roughconductor"><string name="distribution" value="beckmann"/><float name="alphaU" value="0.4"/><float name="alphaV" value="0.1"/></bsdf>)",
+    R"(<bsdf type="roughdielectric"><float name="alphaU" value="0.3"/><float name="alphaV" value="0.05"/><boolean name="remapRoughness" value="true"/></bsdf>)",
 };
 
 } // namespace
@@ -78,9 +82,12 @@ TEST_CASE("Every non-specular BSDF samples its pdf, at grazing angles and from i
         std::vector<float> angles = outside;
         if (xml.find("dielectric") != std::string::npos)
             angles.insert(angles.end(), inside.begin(), inside.end());
+        // Anisotropic lobes are seen from off their axes.
+        const float azimuth = xml.find("alphaU") != std::string::npos ? 0.6f : 0.0f;
         for (float angle : angles) {
             const ChiSquareReport report =
-                chiSquare(bsdfRoutine(*bsdf, incident(angle)), ++seed, alpha);
+                chiSquare(bsdfRoutine(*bsdf, nori::testing::incidentDirection(angle, azimuth)),
+                          ++seed, alpha);
             INFO(bsdf->toString() << " at " << angle << " degrees: " << report.result.message);
             CHECK(report.result.passed);
         }
@@ -276,6 +283,20 @@ TEST_CASE("Negative controls: χ² rejects a wrong glossy lobe and a wrong trans
                              "p-value {:.3g}\n",
                              transmissionReport.result.pValue);
     CHECK_FALSE(transmissionReport.result.passed);
+
+    // Anisotropy: samples of (αu, αv) = (0.08, 0.5) against the pdf of the axes swapped.
+    auto anisotropic = makeBSDF(
+        R"(<bsdf type="roughconductor"><float name="alphaU" value="0.08"/><float name="alphaV" value="0.5"/></bsdf>)");
+    auto swapped = makeBSDF(
+        R"(<bsdf type="roughconductor"><float name="alphaU" value="0.5"/><float name="alphaV" value="0.08"/></bsdf>)");
+    SamplingRoutine stretched =
+        bsdfRoutine(*anisotropic, nori::testing::incidentDirection(30.0f, 0.7f));
+    stretched.pdf = bsdfRoutine(*swapped, nori::testing::incidentDirection(30.0f, 0.7f)).pdf;
+    const ChiSquareReport stretchedReport = chiSquare(stretched, 5, 0.01);
+    std::cout << fmt::format("negative control 'roughconductor alphaU/alphaV against the axes "
+                             "swapped': p-value {:.3g}\n",
+                             stretchedReport.result.pValue);
+    CHECK_FALSE(stretchedReport.result.passed);
 }
 
 TEST_CASE("BSDF parameters are validated", "[bsdf]") {
@@ -284,6 +305,16 @@ TEST_CASE("BSDF parameters are validated", "[bsdf]") {
                        R"(<bsdf type="roughconductor"><float name="alpha" value="-0.1"/></bsdf>)");
                }),
                Contains("'alpha' must be positive"));
+    CHECK_THAT(errorOf([] {
+                   makeBSDF(R"(<bsdf type="roughconductor"><float name="alphaU" value="0.2"/>
+                       <float name="alphaV" value="0"/></bsdf>)");
+               }),
+               Contains("'alphaV' must be positive"));
+    CHECK_THAT(errorOf([] {
+                   makeBSDF(R"(<bsdf type="roughconductor"><float name="alphaU" value="0.2"/>
+                       <float name="alpha" value="0.1"/></bsdf>)");
+               }),
+               Contains("give 'alpha', or 'alphaU' and 'alphaV', not both"));
     CHECK_THAT(
         errorOf([] {
             makeBSDF(

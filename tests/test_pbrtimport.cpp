@@ -405,3 +405,29 @@ WorldBegin
     const std::shared_ptr<Scene> scene = loadScene(importPbrt("Shape \"sphere\"\n", header).xml);
     REQUIRE(scene->getCamera()->getMedium() != nullptr);
 }
+
+TEST_CASE("pbrt-v4's anisotropic and textured roughness map onto alphaU, alphaV and remapping",
+          "[pbrt][import]") {
+    const std::string anisotropic = importPbrt(R"(
+Material "conductor" "float uroughness" [0.04] "float vroughness" [0.25]
+Shape "sphere"
+)")
+                                        .xml;
+    CHECK(importedNumber(anisotropic, "alphaU") == Approx(0.2));
+    CHECK(importedNumber(anisotropic, "alphaV") == Approx(0.5));
+    CHECK_THAT(anisotropic, !Contains("remapRoughness"));
+    // A texture is remapped by the plugin, and so then is the constant beside it.
+    const std::string textured = importPbrt(R"(
+Texture "r" "float" "imagemap" "string filename" "rough.png"
+Material "conductor" "texture uroughness" "r" "float vroughness" [0.25]
+Shape "sphere"
+Material "dielectric" "texture roughness" "r" "bool remaproughness" false
+Shape "sphere"
+)")
+                                     .xml;
+    CHECK_THAT(textured, Contains("<ref name=\"alphaU\" id=\"floattexture:r\"") &&
+                             Contains("<float name=\"alphaV\" value=\"0.25\"") &&
+                             Contains("<boolean name=\"remapRoughness\" value=\"true\"") &&
+                             Contains("<ref name=\"alpha\" id=\"floattexture:r\""));
+    CHECK(textured.find("remapRoughness") == textured.rfind("remapRoughness"));
+}

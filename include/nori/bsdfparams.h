@@ -18,24 +18,34 @@ namespace nori {
 /// distribution of each query point with at().
 class TexturedMicrofacet {
 public:
-    /// Reads `alpha` (a positive float or a float texture) through `textures`; `plugin`
-    /// names the BSDF in errors.
+    /// Reads `alpha`, or `alphaU` and `alphaV` (anisotropic: α along the shading frame's
+    /// tangent and bitangent, Mitsuba's names), each a positive float or a float texture,
+    /// through `textures`; with `remapRoughness` true they are pbrt-v4's roughness r and
+    /// α = √r (its RoughnessToAlpha). `plugin` names the BSDF in errors.
     TexturedMicrofacet(MicrofacetDistribution::Type type, const PropertyList &props,
                        TextureParameters &textures, const std::string &plugin);
 
-    /// The distribution at q. Texture values are clamped to at least kMinAlpha, below
-    /// which the lobes underflow in single precision.
+    /// The distribution at q. Values are clamped to at least kMinAlpha, below which the
+    /// lobes underflow in single precision.
     MicrofacetDistribution at(const TextureQuery &q) const {
-        return MicrofacetDistribution(m_type, std::max(m_alpha->evalFloat(q), kMinAlpha));
+        const float alphaU = alphaOf(m_alphaU->evalFloat(q));
+        if (m_alphaV == m_alphaU)
+            return MicrofacetDistribution(m_type, alphaU);
+        return MicrofacetDistribution(m_type, alphaU, alphaOf(m_alphaV->evalFloat(q)));
     }
     MicrofacetDistribution::Type type() const { return m_type; }
-    const Texture &alpha() const { return *m_alpha; }
+    /// The parameters as given: "alpha=…", or "alphaU=…, alphaV=…", and the remapping.
+    std::string toString() const;
 
     static constexpr float kMinAlpha = 1e-4f;
 
 private:
+    float alphaOf(float value) const {
+        return std::max(m_remap ? std::sqrt(std::max(value, 0.0f)) : value, kMinAlpha);
+    }
     MicrofacetDistribution::Type m_type;
-    std::shared_ptr<const Texture> m_alpha;
+    std::shared_ptr<const Texture> m_alphaU, m_alphaV; ///< the same texture when isotropic
+    bool m_remap = false;
 };
 
 /// A conductor's complex index of refraction relative to the outside, η + ik, whose parts

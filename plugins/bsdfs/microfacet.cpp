@@ -4,7 +4,8 @@
  * with ks = 1 − max(kd), so that the sum stays energy-conserving.
  *
  * Parameters:
- *   alpha   float/texture  0.1       Beckmann roughness (> 0)
+ *   alpha   float/texture  0.1       Beckmann roughness (> 0); alphaU and alphaV instead
+ *                                    make it anisotropic (see roughconductor)
  *   intIOR  float          1.5046    index of refraction of the coating
  *   extIOR  float          1.000277  index of refraction outside
  *   kd      color/texture  0.5       albedo of the diffuse substrate, in [0, 1]
@@ -80,8 +81,8 @@ public:
     bool isDiffuse() const override { return true; }
 
     std::string toString() const override {
-        return fmt::format("Microfacet[alpha={}, intIOR={}, extIOR={}, kd={}]",
-                           m_roughness.alpha().toString(), m_intIOR, m_extIOR, m_kd->toString());
+        return fmt::format("Microfacet[{}, intIOR={}, extIOR={}, kd={}]", m_roughness.toString(),
+                           m_intIOR, m_extIOR, m_kd->toString());
     }
 
 private:

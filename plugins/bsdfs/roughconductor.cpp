@@ -5,6 +5,9 @@
  * Parameters:
  *   distribution  string  "ggx"   "beckmann" or "ggx"
  *   alpha         float/texture  0.1     roughness (> 0)
+ *   alphaU, alphaV  float/texture  —     anisotropic roughness along the shading frame's
+ *                                 tangent and bitangent, instead of alpha
+ *   remapRoughness  boolean  false  the roughness values are pbrt-v4's r, α = √r
  *   material      string  —       a named metal: Au, Ag, Cu, Al, Cr, CuZn, W, none, … (every
  *                                 name of Mitsuba 0.6 and pbrt-v4; instead of eta and k)
  *   eta, k        color/texture  copper  complex index of refraction
@@ -66,10 +69,10 @@ public:
     bool isDiffuse() const override { return true; }
 
     std::string toString() const override {
-        return fmt::format("RoughConductor[distribution={}, alpha={}]",
+        return fmt::format("RoughConductor[distribution={}, {}]",
                            m_roughness.type() == MicrofacetDistribution::Type::GGX ? "ggx"
                                                                                    : "beckmann",
-                           m_roughness.alpha().toString());
+                           m_roughness.toString());
     }
 
 private:

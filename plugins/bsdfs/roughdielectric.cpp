@@ -7,6 +7,9 @@
  * Parameters:
  *   distribution  string  "ggx"     "beckmann" or "ggx"
  *   alpha         float/texture  0.1       roughness (> 0)
+ *   alphaU, alphaV  float/texture  —       anisotropic roughness along the shading frame's
+ *                                   tangent and bitangent, instead of alpha
+ *   remapRoughness  boolean  false    the roughness values are pbrt-v4's r, α = √r
  *   intIOR        float   1.5046    index of refraction inside, or a name ("water",
  *                                   "bk7", ...; Mitsuba's table)
  *   extIOR        float   1.000277  index of refraction outside, or a name
@@ -114,10 +117,10 @@ public:
     bool isDiffuse() const override { return true; }
 
     std::string toString() const override {
-        return fmt::format("RoughDielectric[distribution={}, alpha={}, intIOR={}, extIOR={}]",
+        return fmt::format("RoughDielectric[distribution={}, {}, intIOR={}, extIOR={}]",
                            m_roughness.type() == MicrofacetDistribution::Type::GGX ? "ggx"
                                                                                    : "beckmann",
-                           m_roughness.alpha().toString(), m_intIOR, m_extIOR);
+                           m_roughness.toString(), m_intIOR, m_extIOR);
     }
 
 private:

@@ -971,26 +971,28 @@ private:
         return r;
     }
 
-    /// A microfacet BSDF's `alpha` from pbrt-v4's roughness (isotropic: ours are).
+    /// A microfacet BSDF's roughness from pbrt-v4's: `alpha`, or `alphaU` and `alphaV`
+    /// when anisotropic; constants remapped here (α = √r), textures by `remapRoughness`.
     void addAlpha(pugi::xml_node node, const Roughness &r, const Parameters &params) {
-        if (r.textured()) {
-            const TextureValue &value = r.u.isTexture() ? r.u : r.v;
-            if (r.remap)
-                warn(params.entity().location, "roughness-texture",
-                     fmt::format("{}: a roughness texture is used as α directly (pbrt-v4 takes "
-                                 "α = √roughness)",
-                                 params.what()));
-            addRef(node, textureId(value.texture, "float", params.entity().location), "alpha");
-            return;
+        const Location &where = params.entity().location;
+        // With a texture, our plugin remaps every value, constants included.
+        const bool pluginRemaps = r.textured() && r.remap;
+        auto add = [&](const char *name, const TextureValue &value, float alpha) {
+            if (value.isTexture())
+                addRef(node, textureId(value.texture, "float", where), name);
+            else
+                addFloat(node, name, pluginRemaps ? value.constant.r() : alpha);
+        };
+        const bool isotropic = r.u.isTexture() ? r.v.isTexture() && r.u.texture == r.v.texture
+                                               : !r.v.isTexture() && r.alphaU() == r.alphaV();
+        if (isotropic) {
+            add("alpha", r.u, r.alphaU());
+        } else {
+            add("alphaU", r.u, r.alphaU());
+            add("alphaV", r.v, r.alphaV());
         }
-        float alpha = r.alphaU();
-        if (r.alphaU() != r.alphaV()) {
-            alpha = std::sqrt(r.alphaU() * r.alphaV());
-            warn(params.entity().location, "anisotropic",
-                 fmt::format("{}: anisotropic roughness rendered isotropic, α = √(αu·αv) = {}",
-                             params.what(), alpha));
-        }
-        addFloat(node, "alpha", alpha);
+        if (pluginRemaps)
+            addBoolean(node, "remapRoughness", true);
     }
 
     pugi::xml_node writeMaterial(const MaterialEntity &material, int depth) {

@@ -5,9 +5,27 @@ namespace nori {
 
 TexturedMicrofacet::TexturedMicrofacet(MicrofacetDistribution::Type type, const PropertyList &props,
                                        TextureParameters &textures, const std::string &plugin)
-    : m_type(type), m_alpha(textures.scalar(props, "alpha", 0.1f)) {
-    if (m_alpha->isConstant() && !(m_alpha->average().x() > 0.0f))
-        throw NoriException("{}: 'alpha' must be positive, got {}", plugin, m_alpha->average().x());
+    : m_type(type), m_remap(props.getBoolean("remapRoughness", false)) {
+    if (props.has("alphaU") || props.has("alphaV")) {
+        if (props.has("alpha"))
+            throw NoriException("{}: give 'alpha', or 'alphaU' and 'alphaV', not both", plugin);
+        m_alphaU = textures.scalar(props, "alphaU", 0.1f);
+        m_alphaV = textures.scalar(props, "alphaV", 0.1f);
+    } else {
+        m_alphaU = m_alphaV = textures.scalar(props, "alpha", 0.1f);
+    }
+    for (const auto &[name, value] :
+         {std::make_pair("alphaU", m_alphaU.get()), std::make_pair("alphaV", m_alphaV.get())})
+        if (value->isConstant() && !(value->average().x() > 0.0f))
+            throw NoriException("{}: '{}' must be positive, got {}", plugin,
+                                m_alphaU == m_alphaV ? "alpha" : name, value->average().x());
+}
+
+std::string TexturedMicrofacet::toString() const {
+    const std::string remap = m_remap ? ", remapRoughness=true" : "";
+    if (m_alphaU == m_alphaV)
+        return fmt::format("alpha={}{}", m_alphaU->toString(), remap);
+    return fmt::format("alphaU={}, alphaV={}{}", m_alphaU->toString(), m_alphaV->toString(), remap);
 }
 
 ConductorIOR readConductorIOR(const PropertyList &props, const std::string &plugin,
