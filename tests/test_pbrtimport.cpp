@@ -147,7 +147,7 @@ TEST_CASE("pbrt-v4's crop window, pixel bounds and screen window map onto our ca
                          "cropOffsetX") == 100);
     CHECK_THAT(importPbrt("").xml, !Contains("crop"));
     CHECK_THAT(errorOf([&] { importPbrt("", header("", "\"float cropwindow\" [0.5 0.5 0 1]")); }),
-               Contains("test.pbrt:3:") && Contains("has no pixels"));
+               Contains("test.pbrt:3:") && Contains("is empty"));
     // A centred window of the image's aspect is our usual fov; any other is written out.
     CHECK_THAT(importPbrt("", header("\"float screenwindow\" [-2 2 -1 1]", "")).xml,
                !Contains("screenWindow"));

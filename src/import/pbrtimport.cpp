@@ -462,9 +462,9 @@ private:
         const Eigen::Vector2i size = m_crop.max() - m_crop.min();
         if (!(size.x() > 0 && size.y() > 0))
             throw LocatedError(m_scene.film.location.str(),
-                               fmt::format("film crop [{}, {}) × [{}, {}) has no pixels",
-                                           m_crop.min().x(), m_crop.max().x(), m_crop.min().y(),
-                                           m_crop.max().y()));
+                               fmt::format("film crop of {} x {} pixels at ({}, {}) is empty",
+                                           std::max(size.x(), 0), std::max(size.y(), 0),
+                                           m_crop.min().x(), m_crop.min().y()));
     }
 
     void writeIntegrator() {
