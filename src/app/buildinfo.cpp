@@ -30,7 +30,7 @@ std::string buildDescription() {
     return fmt::format("build type {}, {} ({}), {}, precompiled headers {}, sanitizers {}",
                        NORI_BUILD_TYPE, isa,
                        NORI_BUILD_NATIVE ? "-march=native" : "portable x86-64", compiler,
-                       NORI_BUILD_PCH ? "on" : "off", NORI_BUILD_SANITIZE ? "on" : "off");
+                       NORI_BUILD_PCH ? "on" : "off", NORI_BUILD_SANITIZE);
 }
 
 } // namespace nori

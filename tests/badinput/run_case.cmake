@@ -30,9 +30,12 @@ separate_arguments(arguments UNIX_COMMAND "${arguments}")
 set(command ${NORI} --no-progress ${arguments})
 if(memory)
     if(SANITIZED)
-        # ASan reserves terabytes of address space, so a limit on it cannot be used; its
-        # allocator fails large allocations instead (and new then throws std::bad_alloc).
-        set(ENV{ASAN_OPTIONS} "allocator_may_return_null=1:max_allocation_size_mb=${memory}")
+        # ASan and TSan reserve terabytes of address space, so a limit on it cannot be
+        # used; their allocators fail large allocations instead (and new then throws
+        # std::bad_alloc). TSan's other options (suppressions) are kept.
+        set(limit "allocator_may_return_null=1:max_allocation_size_mb=${memory}")
+        set(ENV{ASAN_OPTIONS} "${limit}")
+        set(ENV{TSAN_OPTIONS} "$ENV{TSAN_OPTIONS}:${limit}")
     else()
         math(EXPR bytes "${memory} * 1048576")
         set(command prlimit --as=${bytes} ${command})
