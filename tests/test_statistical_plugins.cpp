@@ -2,6 +2,7 @@
 // controls: a BSDF and an emitter whose pdf() does not match sample(), and wrong
 // references.
 #include <nori/bsdf.h>
+#include <nori/chisquare.h>
 #include <nori/emitter.h>
 #include <nori/frame.h>
 #include <nori/parser.h>
@@ -119,7 +120,7 @@ TEST_CASE("chi2test draws the picture of every failing case, named after plugin,
     bool diffuseDrawn = false;
     for (const auto &entry : std::filesystem::directory_iterator(dir.path()))
         diffuseDrawn |=
-            entry.path().filename().string().rfind("diffuse_albedo=-0.5-0.5-0.5_wi-", 0) == 0;
+            entry.path().filename().string().rfind("diffuse_albedo=0.5,0.5,0.5_wi-", 0) == 0;
     CHECK(diffuseDrawn);
 }
 
@@ -165,10 +166,18 @@ TEST_CASE("warptest writes the picture and exits with the verdict", "[warptest]"
     CHECK(run({"bsdf", "<bsdf type=\"diffuse\"/>", "--angle", "70"}) == 0);
     CHECK(run({"bsdf", "<bsdf type=\"diffuse\"/>", "--angle", "30"}) == 0);
     CHECK(std::filesystem::exists(dir.path() /
-                                  "warptest-bsdf-diffuse_albedo=-0.5-0.5-0.5_70deg.png"));
+                                  "warptest-bsdf-diffuse_albedo=0.5,0.5,0.5_70deg.png"));
     CHECK(std::filesystem::exists(dir.path() /
-                                  "warptest-bsdf-diffuse_albedo=-0.5-0.5-0.5_30deg.png"));
+                                  "warptest-bsdf-diffuse_albedo=0.5,0.5,0.5_30deg.png"));
     CHECK(run({"phase", "<phase type=\"hg\"><float name=\"g\" value=\"-0.3\"/></phase>"}) == 0);
     CHECK(std::filesystem::exists(dir.path() / "warptest-phase-hg_g=-0.3_30deg.png"));
     CHECK(WEXITSTATUS(run({"cosine_hemispher"})) == 2); // a typo is an error, not a verdict
+}
+
+TEST_CASE("Picture names keep minus signs for negative values only", "[chi2][pictures]") {
+    CHECK(chiSquarePictureName("plastic", "kd=[0.5, 0.5, 0.5], alpha=-0.1", "wi-30deg") ==
+          "plastic_kd=0.5,0.5,0.5,alpha=-0.1_wi-30deg");
+    CHECK(chiSquarePictureName("bsdf-diffuse", "albedo=[0.5, 0.5, 0.5]", "") ==
+          "bsdf-diffuse_albedo=0.5,0.5,0.5");
+    CHECK(chiSquarePictureName("x", " (a) ", "[b]") == "x_a_b");
 }

@@ -8,6 +8,13 @@
 
 namespace nori {
 
+namespace {
+/// The scene is built in (src/render/scene.cpp), not a plugin file with a doc comment.
+const char *const kSceneSummary =
+    "the root element of every scene file, holding the others (built in; see "
+    "docs/scene-format.md)";
+} // namespace
+
 std::string pluginList(const std::string &kind) {
     const auto classes = NoriObjectFactory::registeredClasses();
     if (!kind.empty() && NoriObject::classTypeFromName(kind) == NoriObject::EClassTypeCount) {
@@ -32,7 +39,9 @@ std::string pluginList(const std::string &kind) {
         }
         std::string summary = "(" + std::string(kUndocumentedHint) + ")";
         const std::string comment = docCommentOf(type, name);
-        if (!comment.empty()) {
+        if (type == NoriObject::EScene) {
+            summary = kSceneSummary;
+        } else if (!comment.empty()) {
             try {
                 summary = parsePluginDoc(comment).summary;
             } catch (const NoriException &error) {
@@ -70,6 +79,10 @@ std::string pluginReference(const std::string &name) {
         const std::string comment = docCommentOf(type, name);
         out += fmt::format("{}{} ({}, {})\n\n", out.empty() ? "" : "\n", name,
                            NoriObject::classTypeName(type), shortSourcePath(entry.sourceFile));
+        if (type == NoriObject::EScene) {
+            out += std::string(kSceneSummary) + ".\n";
+            continue;
+        }
         if (comment.empty()) {
             out += std::string(kUndocumentedHint) + ".\n";
             continue;

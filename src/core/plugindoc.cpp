@@ -251,8 +251,9 @@ bool isShippedPlugin(NoriObject::EClassType type, const std::string &name) {
 }
 
 const char *const kUndocumentedHint =
-    "undocumented: its file starts with no doc comment, so it has no parameter list and no "
-    "examples to test; docs/nori2.md says how to write one";
+    "undocumented: its file starts with no doc comment, so it has no parameter list, and no "
+    "examples for the sampling tests of BSDFs, phase functions and emitters (an integrator "
+    "is tested all the same); docs/nori2.md says how to write one";
 
 std::string docCommentOf(NoriObject::EClassType type, const std::string &name) {
     const auto it = docComments().find(NoriObjectFactory::entry(type, name).sourceFile);

@@ -17,18 +17,23 @@ std::string parameterSetOf(const NoriObject &plugin) {
 
 std::string chiSquarePictureName(const std::string &plugin, const std::string &parameters,
                                  const std::string &condition) {
-    // Letters, digits and "=._-" are kept; every other run of characters becomes one '-'.
+    // Letters, digits and "=._-" are kept; every other run of characters (brackets, spaces)
+    // becomes one ',', none at the start or end or after '=': "albedo=0.5,0.5,0.5", where
+    // a '-' is only ever a minus sign or a condition's own.
     auto clean = [](const std::string &text) {
         std::string out;
+        bool separate = false;
         for (char c : text) {
             if (std::isalnum(static_cast<unsigned char>(c)) || c == '=' || c == '.' || c == '-' ||
-                c == '_')
+                c == '_') {
+                if (separate && !out.empty() && out.back() != '=')
+                    out += ',';
+                separate = false;
                 out += c;
-            else if (!out.empty() && out.back() != '-')
-                out += '-';
+            } else {
+                separate = true;
+            }
         }
-        while (!out.empty() && out.back() == '-')
-            out.pop_back();
         return out.substr(0, 100);
     };
     std::string name = clean(plugin);
