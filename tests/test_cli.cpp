@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 
 using namespace nori;
@@ -276,4 +277,24 @@ TEST_CASE("A write that fails keeps the previous image and says why", "[cli][out
         runNori({"--no-progress", "-o", (dir.path() / "not-a-folder" / "image").string(), scene});
     CHECK(misplaced.exitCode == 1);
     CHECK_THAT(misplaced.output, Contains("not-a-folder/image.exr': Not a directory"));
+}
+
+TEST_CASE("The plugin listing and --help say what is tested and what the scene is",
+          "[cli][plugins]") {
+    const ProcessResult list = runNori({"--list-plugins"});
+    REQUIRE(list.exitCode == 0);
+    // The first entry a student sees is our own scene: built in, not "undocumented".
+    const std::string sceneLine = list.output.substr(0, list.output.find("\n\n"));
+    CHECK_THAT(sceneLine, Contains("the root element of every scene file") &&
+                              !Contains("undocumented"));
+    CHECK_THAT(runNori({"--list-plugins", "scene"}).output,
+               Contains("the root element of every scene file"));
+    // --help names what --test-plugin covers, integrators included.
+    // (The help wraps its lines: compared with runs of spaces and line breaks as one space.)
+    std::string help;
+    for (char c : runNori({"--help"}).output)
+        if (!std::isspace(static_cast<unsigned char>(c)) || (!help.empty() && help.back() != ' '))
+            help += std::isspace(static_cast<unsigned char>(c)) ? ' ' : c;
+    CHECK_THAT(help, Contains("an integrator against the built-in of its quantity"));
+    CHECK_THAT(help, !Contains("test sampling plugins (BSDFs, phase functions, emitters)"));
 }

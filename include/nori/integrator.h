@@ -29,6 +29,27 @@ struct Splat {
     bool atSample = false;
 };
 
+/// What an integrator's image estimates. `nori --test-plugin` compares an integrator with
+/// the built-in one of the same quantity (src/testing/integratortest.h): a course's
+/// ambient-occlusion integrator with `ao`, not with a path tracer.
+enum class IntegratorQuantity {
+    Radiance,           ///< the radiance arriving at the camera (path_mis)
+    AmbientOcclusion,   ///< unoccluded cosine-weighted fraction of the hemisphere (ao)
+    AverageVisibility,  ///< unoccluded fraction within a distance (av)
+    DirectIllumination, ///< emitted light plus light reflected once (direct)
+    Whitted,            ///< direct light, continued through mirrors and glass (whitted)
+    PointLight,         ///< one point light of the integrator's own (simple)
+    Normals,            ///< the shading normal as a colour (normals)
+    Material            ///< the BSDF's colour at the first hit (material)
+};
+
+/// The quantity of the course assignment whose integrator is registered as `name`: ao,
+/// av, simple, direct (and direct_ems, direct_mats, direct_mis), whitted, normals,
+/// material; Radiance for every other name.
+IntegratorQuantity courseIntegratorQuantity(const std::string &name);
+/// The built-in integrator that estimates `quantity` ("path_mis" for Radiance).
+const char *referenceIntegrator(IntegratorQuantity quantity);
+
 class Integrator : public NoriObject {
 public:
     static constexpr EClassType kClassType = EIntegrator;
@@ -77,6 +98,11 @@ public:
     /// What the integrator did besides tracing camera paths, for `nori` to print after
     /// the render ("photon map: ..."); empty for most.
     virtual std::string renderSummary() const { return {}; }
+    /// What the image estimates (see IntegratorQuantity). By default the quantity of the
+    /// course assignment the plugin is named after (courseIntegratorQuantity), so a
+    /// course's `ao.cpp` needs nothing; an integrator of such a quantity under another
+    /// name overrides this.
+    virtual IntegratorQuantity quantity() const { return courseIntegratorQuantity(pluginName()); }
 
     /// The AOV layers the scene asks for: <string name="aovs" value="albedo,normal"/>,
     /// which every integrator accepts (the render loop computes them, see aov.h).

@@ -4,8 +4,10 @@
  * with ks = 1 − max(kd), so that the sum stays energy-conserving.
  *
  * Parameters:
- *   alpha   float/texture  0.1       Beckmann roughness (> 0); alphaU and alphaV instead
- *                                    make it anisotropic (see roughconductor)
+ *   alpha   float/texture  0.1       Beckmann roughness (> 0)
+ *   alphaU, alphaV  float/texture  —  anisotropic roughness along the shading frame's
+ *                                    tangent and bitangent, instead of alpha
+ *   remapRoughness  boolean  false   the roughness values are pbrt-v4's r, α = √r
  *   intIOR  float          1.5046    index of refraction of the coating
  *   extIOR  float          1.000277  index of refraction outside
  *   kd      color/texture  0.5       albedo of the diffuse substrate, in [0, 1]

@@ -209,11 +209,14 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
         ->type_name("[KIND|NAME]")
         ->expected(0, 1);
     app.add_option("--test-plugin", options.pluginsToTest,
-                   "test sampling plugins (BSDFs, phase functions, emitters) built from the "
-                   "examples of their doc comments; exits 1 if any fails")
+                   "test plugins: BSDFs, phase functions and emitters by chi-square tests "
+                   "of the examples of their doc comments, an integrator against the built-in "
+                   "of its quantity (path_mis, ao, whitted, ...) on test scenes; exits 1 if "
+                   "any fails")
         ->type_name("NAME");
     app.add_flag("--test-plugins", options.testAllPlugins,
-                 "the same for every registered BSDF, phase function and emitter");
+                 "the same for every registered BSDF, phase function and emitter "
+                 "(integrators: name them to --test-plugin)");
     app.add_option("--seed", texts.seed, "the seed of --test-plugin (default 1)")->type_name("S");
     app.add_option("--seeds", texts.seeds,
                    "soak: run --test-plugin(s) with seeds 1..N and count the failures of each "

@@ -550,8 +550,11 @@ std::vector<AgreementScene> agreementMatrixScenes() {
             texturedPlane(),   media(),          instances(),  disney(),
             lensCamera(false), lensCamera(true), shapeLights()};
 }
-std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXML, bool withMedia) {
-    const Estimator reference = pathTracer("path_mis", 128);
+std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXML, bool withMedia,
+                                                 const std::string &referenceType,
+                                                 const std::string &referenceParameters,
+                                                 bool courseScenes) {
+    const Estimator reference = pathTracer(referenceType, 128, referenceParameters);
     const Estimator tested{"tested", integratorXML, "independent", "", 128, ""};
     std::vector<AgreementScene> scenes;
 
@@ -572,14 +575,16 @@ std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXM
     lights.regions = {{"floor", 0, 24, 32, 8}, {"spheres", 6, 10, 20, 10}};
     scenes.push_back(lights);
 
-    AgreementScene delta = deltaLights();
-    delta.name = "spot-and-directional";
-    scenes.push_back(delta);
+    if (!courseScenes) {
+        AgreementScene delta = deltaLights();
+        delta.name = "spot-and-directional";
+        scenes.push_back(delta);
 
-    AgreementScene sky = skyWithSun();
-    sky.name = "environment-map";
-    sky.regions = {{"floor", 0, 24, 32, 8}, {"spheres", 8, 10, 16, 8}};
-    scenes.push_back(sky);
+        AgreementScene sky = skyWithSun();
+        sky.name = "environment-map";
+        sky.regions = {{"floor", 0, 24, 32, 8}, {"spheres", 8, 10, 16, 8}};
+        scenes.push_back(sky);
+    }
 
     AgreementScene glossy = glossyPlates();
     glossy.name = "glossy";

@@ -22,10 +22,15 @@ std::vector<AgreementScene> agreementMatrixScenes();
 
 /// The battery of a user's integrator (its <integrator> element): lights of very unequal
 /// power, delta lights, an environment map with a sun, glossy and specular surfaces; on
-/// each, the built-in path_mis first (estimator "path_mis") and the integrator second
-/// ("tested"). `withMedia`: also the matrix's scene of a homogeneous and a heterogeneous
-/// medium, with volpath first.
+/// each, the built-in integrator `referenceType` with `referenceParameters` (XML) first,
+/// labelled by its type, and the integrator second ("tested"). `courseScenes`: only the scenes a course assignment's
+/// integrator renders (area lights; diffuse, glossy, mirror and glass surfaces), for the
+/// integrators of other quantities than radiance. `withMedia`: also the matrix's scene of
+/// a homogeneous and a heterogeneous medium, with volpath first.
 std::vector<AgreementScene> integratorTestScenes(const std::string &integratorXML,
-                                                 bool withMedia = false);
+                                                 bool withMedia = false,
+                                                 const std::string &referenceType = "path_mis",
+                                                 const std::string &referenceParameters = "",
+                                                 bool courseScenes = false);
 
 } // namespace nori

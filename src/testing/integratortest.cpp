@@ -3,11 +3,29 @@
 #include "testing/agreementscenes.h"
 #include <nori/integrator.h>
 #include <nori/object.h>
+#include <nori/parser.h>
 #include <nori/plugindoc.h>
 
 #include <cmath>
 
 namespace nori {
+
+namespace {
+
+/// The parameters both integrators get, for the quantities whose course integrators need
+/// some: simple's point light (above the scenes' floor) and av's distance.
+std::string quantityParameters(IntegratorQuantity quantity) {
+    switch (quantity) {
+    case IntegratorQuantity::PointLight:
+        return R"(<point name="position" value="0.5, 2.5, 1"/><color name="energy" value="60, 60, 60"/>)";
+    case IntegratorQuantity::AverageVisibility:
+        return R"(<float name="length" value="0.6"/>)";
+    default:
+        return "";
+    }
+}
+
+} // namespace
 
 bool isIntegratorPlugin(const std::string &name) {
     for (NoriObject::EClassType kind : NoriObjectFactory::kindsOf(name))
@@ -25,19 +43,30 @@ PluginTestResult testIntegratorPlugin(const std::string &name, const PluginTestO
     // An integrator that says it renders participating media is also compared with
     // volpath on a scene with media (Integrator::handlesMedia).
     bool withMedia = false, specularInView = true;
+    // What it estimates decides what it is compared with (Integrator::quantity): found on
+    // an instance made with no parameters, or, for the course names that need some, by
+    // the name.
+    IntegratorQuantity quantity = courseIntegratorQuantity(name);
+    std::string parameters = quantityParameters(quantity);
     try {
-        const auto integrator = std::static_pointer_cast<Integrator>(
-            NoriObjectFactory::createInstance(name, NoriObject::EIntegrator, PropertyList()));
+        const auto integrator = std::static_pointer_cast<Integrator>(loadFromXMLString(
+            fmt::format(R"(<integrator type="{}">{}</integrator>)", name, parameters)));
+        quantity = integrator->quantity();
+        parameters = quantityParameters(quantity);
         withMedia = integrator->handlesMedia();
         specularInView = integrator->rendersSpecularInView();
     } catch (const NoriException &error) {
         result.tested = true;
         result.passed = false;
-        result.report += fmt::format("  cannot be created without parameters: {}\n", error.what());
+        result.report += fmt::format("  cannot be created{}: {}\n",
+                                     parameters.empty() ? " without parameters" : "", error.what());
         return result;
     }
-    const std::vector<AgreementScene> scenes =
-        integratorTestScenes(fmt::format(R"(<integrator type="{}"/>)", name), withMedia);
+    const std::string reference = referenceIntegrator(quantity);
+    const bool radiance = quantity == IntegratorQuantity::Radiance;
+    const std::vector<AgreementScene> scenes = integratorTestScenes(
+        fmt::format(R"(<integrator type="{}">{}</integrator>)", name, parameters),
+        withMedia && radiance, reference, parameters, !radiance);
     size_t comparisons = 0;
     for (const AgreementScene &scene : scenes) {
         if (scene.specularInView && !specularInView) {
@@ -73,11 +102,11 @@ PluginTestResult testIntegratorPlugin(const std::string &name, const PluginTestO
     // With 16 batches each, the difference over its standard error follows Student's t
     // with about 30 degrees of freedom: beyond 4 with probability 4e-4, so that a correct
     // integrator fails one of ~20 comparisons with probability below 1 %.
-    result.report +=
-        fmt::format("  {} comparisons with {} ({} batches each, disagreement beyond {:g} standard "
-                    "errors)\n  verdict: {}\n",
-                    comparisons, withMedia ? "path_mis and volpath" : "path_mis", settings.batches,
-                    settings.threshold, result.passed ? "pass" : "FAIL");
+    result.report += fmt::format(
+        "  {} comparisons with {} ({} batches each, disagreement beyond {:g} standard "
+        "errors)\n  verdict: {}\n",
+        comparisons, withMedia && radiance ? "path_mis and volpath" : reference, settings.batches,
+        settings.threshold, result.passed ? "pass" : "FAIL");
     return result;
 }
 
