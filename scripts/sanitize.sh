@@ -51,12 +51,15 @@ for sanitizer in "${sanitizers[@]}"; do
         generator=(-G Ninja)
     fi
     start=$(date +%s)
+    log="$(mktemp)"
     if ! cmake -S "$here" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=None \
         -DCMAKE_CXX_FLAGS="$flags" -DNORI_SANITIZE="$option" -DNORI_BUILD_TESTS=ON \
-        > "$build.configure.log" 2>&1; then
-        cat "$build.configure.log"
+        > "$log" 2>&1; then
+        cat "$log"
+        rm -f "$log"
         exit 1
     fi
+    rm -f "$log"
     if ! cmake --build "$build" -j"$jobs"; then
         echo "sanitize.sh: the $sanitizer build failed" >&2
         exit 1

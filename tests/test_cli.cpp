@@ -285,8 +285,8 @@ TEST_CASE("The plugin listing and --help say what is tested and what the scene i
     REQUIRE(list.exitCode == 0);
     // The first entry a student sees is our own scene: built in, not "undocumented".
     const std::string sceneLine = list.output.substr(0, list.output.find("\n\n"));
-    CHECK_THAT(sceneLine, Contains("the root element of every scene file") &&
-                              !Contains("undocumented"));
+    CHECK_THAT(sceneLine,
+               Contains("the root element of every scene file") && !Contains("undocumented"));
     CHECK_THAT(runNori({"--list-plugins", "scene"}).output,
                Contains("the root element of every scene file"));
     // --help names what --test-plugin covers, integrators included.

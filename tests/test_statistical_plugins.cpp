@@ -165,10 +165,10 @@ TEST_CASE("warptest writes the picture and exits with the verdict", "[warptest]"
     // Pictures are named after what was tested and the angle: runs do not overwrite.
     CHECK(run({"bsdf", "<bsdf type=\"diffuse\"/>", "--angle", "70"}) == 0);
     CHECK(run({"bsdf", "<bsdf type=\"diffuse\"/>", "--angle", "30"}) == 0);
-    CHECK(std::filesystem::exists(dir.path() /
-                                  "warptest-bsdf-diffuse_albedo=0.5,0.5,0.5_70deg.png"));
-    CHECK(std::filesystem::exists(dir.path() /
-                                  "warptest-bsdf-diffuse_albedo=0.5,0.5,0.5_30deg.png"));
+    CHECK(
+        std::filesystem::exists(dir.path() / "warptest-bsdf-diffuse_albedo=0.5,0.5,0.5_70deg.png"));
+    CHECK(
+        std::filesystem::exists(dir.path() / "warptest-bsdf-diffuse_albedo=0.5,0.5,0.5_30deg.png"));
     CHECK(run({"phase", "<phase type=\"hg\"><float name=\"g\" value=\"-0.3\"/></phase>"}) == 0);
     CHECK(std::filesystem::exists(dir.path() / "warptest-phase-hg_g=-0.3_30deg.png"));
     CHECK(WEXITSTATUS(run({"cosine_hemispher"})) == 2); // a typo is an error, not a verdict
