@@ -65,7 +65,7 @@ void Camera::activate() {
 
 Color3f Camera::sampleRayDifferential(Ray3f &ray, const Point2f &samplePosition,
                                       const Point2f &apertureSample) const {
-    const Color3f weight = sampleRay(ray, samplePosition, apertureSample);
+    Color3f weight = sampleRay(ray, samplePosition, apertureSample);
     Ray3f rx, ry;
     if ((weight == 0.0f).all() ||
         (sampleRay(rx, samplePosition + Point2f(1.0f, 0.0f), apertureSample) == 0.0f).all() ||
