@@ -1,4 +1,4 @@
-// Bidirectional path tracing (include/nori/bdpt.h, plugins/integrators/bdpt.cpp): each
+// Bidirectional path tracing (include/nori/bdpt.h, plugins/builtin/integrators/bdpt.cpp): each
 // strategy alone is unbiased, the recursive MIS weights equal the ones computed from
 // every strategy's density from scratch, light paths through glass carry flux (η²), the
 // emission and camera densities are those their samplers draw, and renders keep the same

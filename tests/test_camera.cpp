@@ -66,7 +66,7 @@ TEST_CASE("EPFL's convention mirrors x, ETH's does not", "[camera]") {
 TEST_CASE("The command line's camera convention applies to cameras that do not choose one",
           "[camera][cli]") {
     LoadOptions ethOptions;
-    ethOptions.cameraConvention = "eth";
+    ethOptions.convention = "eth";
     CHECK(leftEdgeRayX(*load(cameraScene(""), ethOptions)) > 0.1f);
     // A convention written in the scene wins.
     CHECK(leftEdgeRayX(*load(cameraScene(R"(<string name="convention" value="epfl"/>)"),
@@ -107,7 +107,7 @@ TEST_CASE("The command line's camera convention applies to cameras that do not c
 
     auto bad = runNori({"--camera-convention", "left", scene});
     CHECK(bad.exitCode == 1);
-    CHECK_THAT(bad.output, Contains("--camera-convention must be 'epfl' or 'eth'"));
+    CHECK_THAT(bad.output, Contains("--convention must be 'epfl' or 'eth'"));
 }
 
 TEST_CASE("A camera's lookat with 'up' along the view collapses as in Nori 2, and warns",

@@ -138,3 +138,43 @@ TEST_CASE("A spot light's power is the integral of its intensity over the sphere
         loadFromXMLString(R"(<emitter type="spot"><color name="power" value="10"/></emitter>)"));
     CHECK(byPower->getPower().r() == Approx(10.0f));
 }
+
+TEST_CASE("Every light's shadowRay leaves the surface its reference point lies on", "[lights]") {
+    // Course code tests scene->rayIntersect(lRec.shadowRay) from a hit point: a ray that
+    // started on the surface at t = 0 would find it (a sphere's second root is ~1e-7
+    // away) and leave curved objects black. From points of a unit sphere toward each
+    // kind of light, nothing but the open sky lies in between.
+    const std::vector<std::string> lights = {
+        R"(<emitter type="point"><point name="position" value="0, 3, 0"/></emitter>)",
+        fmt::format(kSpot, 0.0f, 0.0f, 10),
+        R"(<emitter type="directional"><vector name="direction" value="0, -1, 0"/></emitter>)",
+        R"(<emitter type="constant"/>)",
+        R"(<mesh type="rectangle"><transform name="toWorld"><rotate axis="1, 0, 0" angle="90"/>
+            <translate value="0, 3, 0"/></transform><emitter type="area"/></mesh>)"};
+    for (const std::string &light : lights) {
+        CAPTURE(light);
+        const auto scene = loadScene(
+            R"(<scene><camera type="perspective"><integer name="width" value="4"/>
+               <integer name="height" value="4"/></camera>
+               <mesh type="sphere"/>)" +
+            light + "</scene>");
+        const Emitter &emitter = *scene->getEmitters().front();
+        PCG32 random(7, 1);
+        int tested = 0;
+        for (int i = 0; i < 400; ++i) {
+            Vector3f n =
+                Warp::squareToUniformSphere(Point2f(random.nextFloat(), random.nextFloat()));
+            n.y() = std::abs(n.y());
+            EmitterQueryRecord lRec{Point3f(n)};
+            if ((emitter.sample(lRec, Point2f(random.nextFloat(), random.nextFloat())) == 0.0f)
+                    .all() ||
+                lRec.wi.dot(n) < 0.05f)
+                continue;
+            ++tested;
+            INFO("ref " << n.transpose() << ", wi " << lRec.wi.transpose());
+            CHECK(lRec.shadowRay.mint > 0.0f);
+            CHECK_FALSE(scene->rayIntersect(lRec.shadowRay));
+        }
+        CHECK(tested > 50);
+    }
+}

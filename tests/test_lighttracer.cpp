@@ -1,4 +1,4 @@
-// Light tracing (plugins/integrators/lighttracer.cpp) and what it stands on: connections
+// Light tracing (plugins/builtin/integrators/lighttracer.cpp) and what it stands on: connections
 // to the camera (Camera::connect), the film's splats (SplatBuffer), and renders with
 // splats that stay deterministic, split into parts, and refuse what they cannot do.
 #include "app/renderpart.h"

@@ -276,7 +276,7 @@ TEST_CASE("The scene hash covers every file read, the definitions and the conven
     const auto hashOf = [&](const Defines &defines, const std::string &convention) {
         ReadFileRecorder recorder;
         LoadOptions options(defines);
-        options.cameraConvention = convention;
+        options.convention = convention;
         loadFromXML(xml, options);
         CHECK(recorder.digests().size() == 2); // the XML file and the mesh
         return sceneHash(recorder.digests(), defines, convention);

@@ -17,7 +17,7 @@ using nori::testing::errorOf;
 
 namespace {
 
-/// The plugins registered from the project's own files (plugins/shipped.txt), not from
+/// The plugins registered from the project's own files (plugins/builtin/shipped.txt), not from
 /// a user's files in plugins/ nor from the tests' own plugins.
 std::vector<std::pair<NoriObject::EClassType, std::string>> shippedPlugins() {
     std::vector<std::pair<NoriObject::EClassType, std::string>> plugins;
@@ -95,11 +95,11 @@ TEST_CASE("Every plugin has a doc block with its name and at least one example",
     }
 }
 
-TEST_CASE("Every file of plugins/shipped.txt exists and registers a plugin", "[docs]") {
+TEST_CASE("Every file of plugins/builtin/shipped.txt exists and registers a plugin", "[docs]") {
     std::set<std::string> registeringFiles;
     for (const auto &[type, name] : shippedPlugins())
         registeringFiles.insert(shortSourcePath(NoriObjectFactory::entry(type, name).sourceFile));
-    std::ifstream list(std::string(NORI_SOURCE_DIR) + "/plugins/shipped.txt");
+    std::ifstream list(std::string(NORI_SOURCE_DIR) + "/plugins/builtin/shipped.txt");
     REQUIRE(list);
     int files = 0;
     for (std::string line; std::getline(list, line);) {
@@ -107,7 +107,7 @@ TEST_CASE("Every file of plugins/shipped.txt exists and registers a plugin", "[d
             continue;
         ++files;
         INFO(line);
-        CHECK(registeringFiles.count("plugins/" + line) == 1);
+        CHECK(registeringFiles.count("plugins/builtin/" + line) == 1);
     }
     CHECK(files == static_cast<int>(registeringFiles.size()));
 }
@@ -154,7 +154,7 @@ TEST_CASE("nori --list-plugins filters by kind and prints one plugin's doc", "[d
                                  !Contains("integrator:"));
     auto diffuse = runNori({"--list-plugins", "diffuse"});
     CHECK(diffuse.exitCode == 0);
-    CHECK_THAT(diffuse.output, Contains("diffuse (bsdf, plugins/bsdfs/diffuse.cpp)") &&
+    CHECK_THAT(diffuse.output, Contains("diffuse (bsdf, plugins/builtin/bsdfs/diffuse.cpp)") &&
                                    Contains("albedo  color/texture  0.5") &&
                                    Contains("<bsdf type=\"diffuse\">"));
     auto typo = runNori({"--list-plugins", "difuse"});

@@ -1,5 +1,5 @@
-// Analytic shapes: the sphere's uv parameterisation as the course defines it, and its
-// derivatives.
+// Analytic shapes: the sphere's uv parameterisation as the courses define it (EPFL's and
+// ETH's), and its derivatives.
 #include <nori/parser.h>
 #include <nori/pcg32.h>
 #include <nori/shape.h>
@@ -9,11 +9,25 @@
 
 using namespace nori;
 
-TEST_CASE("Sphere uv: u = 0.5 + atan2(y, x)/2π, v = 0.5 + asin(z)/π", "[shape]") {
+TEST_CASE("Sphere uv: u = ½ + φ/2π (EPFL) or φ/2π (ETH), v = 1 − θ/π", "[shape]") {
     const Point3f center(0.5f, -1.0f, 2.0f);
     const float radius = 1.5f;
-    auto sphere = std::dynamic_pointer_cast<Shape>(loadFromXMLString(R"(<mesh type="sphere">
-        <point name="center" value="0.5, -1, 2"/><float name="radius" value="1.5"/></mesh>)"));
+    // The convention by the sphere's own parameter (none: EPFL), and ETH's by --convention.
+    const auto [parameter, commandLine, offset] =
+        GENERATE(table<std::string, std::string, double>({{"", "", 0.5},
+                                                          {"epfl", "", 0.5},
+                                                          {"eth", "", 0.0},
+                                                          {"", "eth", 0.0},
+                                                          {"epfl", "eth", 0.5}}));
+    INFO("convention parameter '" << parameter << "', --convention '" << commandLine << "'");
+    LoadOptions options;
+    options.convention = commandLine;
+    const std::string xml = fmt::format(
+        R"(<mesh type="sphere"><point name="center" value="0.5, -1, 2"/>
+           <float name="radius" value="1.5"/>{}</mesh>)",
+        parameter.empty() ? ""
+                          : fmt::format(R"(<string name="convention" value="{}"/>)", parameter));
+    auto sphere = std::dynamic_pointer_cast<Shape>(loadFromXMLString(xml, ".", options));
     REQUIRE(sphere);
     PCG32 random(3, 4);
     for (int i = 0; i < 200; ++i) {
@@ -27,11 +41,12 @@ TEST_CASE("Sphere uv: u = 0.5 + atan2(y, x)/2π, v = 0.5 + asin(z)/π", "[shape]
         REQUIRE(sphere->rayIntersect(0, ray, its.t, coords));
         sphere->setHitInformation(0, ray, coords, its);
         INFO("n = " << n.transpose());
-        CHECK(its.uv.x() == Approx(0.5 + std::atan2(n.y(), n.x()) / (2 * kPiDouble)).margin(1e-5));
-        CHECK(its.uv.y() == Approx(0.5 + std::asin(n.z()) / kPiDouble).margin(1e-4));
+        CHECK(its.uv.x() ==
+              Approx(offset + std::atan2(n.y(), n.x()) / (2 * kPiDouble)).margin(1e-5));
+        CHECK(its.uv.y() == Approx(1.0 - std::acos(n.z()) / kPiDouble).margin(1e-4));
         // dp/du and dp/dv by central differences of p(u, v).
-        auto position = [&](double u, double v) -> Eigen::Vector3d {
-            const double phi = 2 * kPiDouble * (u - 0.5), beta = kPiDouble * (v - 0.5);
+        auto position = [&, offset = offset](double u, double v) -> Eigen::Vector3d {
+            const double phi = 2 * kPiDouble * (u - offset), beta = kPiDouble * (v - 0.5);
             return Eigen::Vector3d(std::cos(beta) * std::cos(phi), std::cos(beta) * std::sin(phi),
                                    std::sin(beta)) *
                    radius;

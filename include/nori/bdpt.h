@@ -2,7 +2,7 @@
 // bookkeeping this follows): a subpath from the camera and one from a light, and every
 // way (s, t) of joining s vertices of the light subpath to t of the camera subpath into a
 // whole path, each weighted by multiple importance sampling. The bdpt integrator
-// (plugins/integrators/bdpt.cpp) is built from this; the tests reach the pieces.
+// (plugins/builtin/integrators/bdpt.cpp) is built from this; the tests reach the pieces.
 #pragma once
 
 #include <nori/color.h>

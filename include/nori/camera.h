@@ -2,6 +2,7 @@
 #pragma once
 
 #include <nori/color.h>
+#include <nori/convention.h>
 #include <nori/medium.h>
 #include <nori/object.h>
 #include <nori/ray.h>
@@ -33,7 +34,7 @@ public:
     /// Which way the image's x axis runs in camera space (the two Nori course lineages
     /// differ). EPFL: Nori 2 and Mitsuba mirror x, camera-space +x is the image's left;
     /// the default. ETH: no mirror, camera-space +x is the image's right.
-    enum class Convention { EPFL, ETH };
+    using Convention = CourseConvention;
 
     /// Generates a world-space ray for film position `samplePosition` (pixels, from the
     /// top-left corner) and returns the importance weight of the ray. A weight of zero
@@ -118,15 +119,17 @@ public:
 
 protected:
     /// Reads the `convention` parameter ("epfl", the default, or "eth"); `nori
-    /// --camera-convention` sets it for cameras whose XML does not.
-    static Convention readConvention(const PropertyList &props);
+    /// --convention` sets it for cameras whose XML does not.
+    static Convention readConvention(const PropertyList &props) {
+        return readCourseConvention(props);
+    }
     /// The camera-space x of the film's horizontal position u in [0, 1], on the plane
     /// where the film spans x in [−1, 1]: 1 − 2u (EPFL) or 2u − 1 (ETH).
     static float filmX(float u, Convention convention) {
         return convention == Convention::EPFL ? 1.0f - 2.0f * u : 2.0f * u - 1.0f;
     }
     static const char *conventionName(Convention convention) {
-        return convention == Convention::EPFL ? "epfl" : "eth";
+        return courseConventionName(convention);
     }
     /// Reads what our cameras share of a film: `width` and `height` (1280 × 720 by
     /// default), the crop (see getFullSize), `sampleBorder` (see samplesBorder) and

@@ -27,7 +27,9 @@ struct EmitterQueryRecord : TextureQuery {
     Normal3f n;       ///< surface normal at p (area lights)
     Vector3f wi;      ///< unit direction from ref toward p
     float pdf = 0.0f; ///< solid-angle density of wi at ref (for delta lights: 1)
-    Ray3f shadowRay;  ///< from ref to p, for the visibility test
+    /// From ref to p, for the visibility test of course code (see setShadowRay); our
+    /// integrators use Intersection::spawnRayTo, which is robust at every scale.
+    Ray3f shadowRay;
     /// The primitive of the light's shape that p lies on (ShapeSample::primitive): set by
     /// a ray hit and by sample(); unknown for a record built from a point.
     uint32_t primitive = ShapeSample::kUnknownPrimitive;
@@ -39,6 +41,13 @@ struct EmitterQueryRecord : TextureQuery {
     // its uv and footprint.
 
     EmitterQueryRecord() = default;
+
+    /// Sets shadowRay toward a point `distance` along wi: from Nori 2's Epsilon (kEpsilon)
+    /// past ref, so that it does not find the surface ref lies on (courses test
+    /// scene->rayIntersect(lRec.shadowRay)), to just before p.
+    void setShadowRay(float distance) {
+        shadowRay = Ray3f(ref, wi, kEpsilon, distance * (1.0f - kShadowEpsilon));
+    }
     explicit EmitterQueryRecord(const Point3f &ref) : ref(ref) {}
     EmitterQueryRecord(const Point3f &ref, const Point3f &p, const Normal3f &n)
         : ref(ref), n(n), wi((p - ref).normalized()) {

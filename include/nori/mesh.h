@@ -1,5 +1,5 @@
 // Triangle meshes: vertex arrays and faces, with the per-triangle intersection code.
-// Loaders (plugins/shapes/obj.cpp) fill the arrays and call finishLoading().
+// Loaders (plugins/builtin/shapes/obj.cpp) fill the arrays and call finishLoading().
 #pragma once
 
 #include <nori/dpdf.h>

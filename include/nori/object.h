@@ -76,6 +76,9 @@ private:
     std::vector<std::shared_ptr<NoriObject>> m_rawChildren;
 };
 
+/// The prefix of a plugin name that means our plugin, not a user's that replaced it.
+inline constexpr const char *kBuiltinPrefix = "builtin:";
+
 /// Registry from plugin kind and name to constructor (a name is unique within a kind).
 class NoriObjectFactory {
 public:
@@ -91,15 +94,35 @@ public:
     static void registerClass(const std::string &name, NoriObject::EClassType type,
                               Constructor constructor, const std::string &sourceFile = "");
     /// As registerClass, for static initialisation (where throwing would abort): a
-    /// duplicate is remembered and reported by checkRegistry().
+    /// second registration of a name is kept aside for checkRegistry().
     static bool registerStatic(const std::string &name, NoriObject::EClassType type,
                                Constructor constructor, const char *sourceFile) noexcept;
-    /// Throws NoriException listing the names that were registered twice at start-up
-    /// (each duplicate is reported once).
+    /// Records the source files of the plugins the project ships (plugins/builtin/, by the
+    /// code the build generates): a plugin of a user's file that registers one of their
+    /// names replaces ours.
+    static bool registerShippedFiles(const std::vector<const char *> &files) noexcept;
+    /// Whether `sourceFile` (as __FILE__ gives it) is one of the project's plugin files.
+    static bool isShippedFile(const std::string &sourceFile);
+    /// Settles the names registered twice at start-up: a user's plugin that registers the
+    /// name of one of ours replaces ours (see replacements()); any other name registered
+    /// twice (two of ours, two of a user's) throws NoriException naming both files.
     static void checkRegistry();
+
+    /// A plugin of ours that a user's plugin of the same kind and name replaced.
+    struct Replacement {
+        NoriObject::EClassType type;
+        std::string name;
+        std::string yourFile, ourFile;
+    };
+    /// The replacements checkRegistry() made (and useBuiltin() did not undo).
+    static std::vector<Replacement> replacements();
+    /// Uses our plugin `name` again instead of the user's that replaced it; throws
+    /// NoriException when no plugin of that name was replaced.
+    static void useBuiltin(const std::string &name);
 
     /// Constructs a plugin of the expected kind. Throws for unknown names (with a
     /// "did you mean"), for a plugin of another kind, and for unread properties.
+    /// "builtin:NAME" (kBuiltinPrefix) is our plugin NAME even when a user's replaced it.
     static std::shared_ptr<NoriObject> createInstance(const std::string &name,
                                                       NoriObject::EClassType expectedType,
                                                       const PropertyList &props);

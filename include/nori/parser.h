@@ -15,9 +15,9 @@ using Defines = std::map<std::string, std::string>;
 struct LoadOptions {
     /// $name variables; they win over <default> elements.
     Defines defines;
-    /// The `convention` ("epfl" or "eth") of every camera that does not set its own;
-    /// empty: each camera's default (see camera.h).
-    std::string cameraConvention;
+    /// The `convention` ("epfl" or "eth", see convention.h) of every camera and shape
+    /// that does not set its own; empty: each one's default.
+    std::string convention;
     /// When set, receives the names of `defines` that no $name in the files used.
     std::vector<std::string> *unusedDefines = nullptr;
 

@@ -1,7 +1,7 @@
 // What every integrator that traces paths shares (path, direct, volpath, whitted, the
 // photon mappers): next-event estimation, the multiple importance sampling weights, the
 // depth limits and Russian roulette. The loops themselves live in the plugins
-// (plugins/integrators/path.cpp is the one to read first).
+// (plugins/builtin/integrators/path.cpp is the one to read first).
 #pragma once
 
 #include <nori/camera.h>

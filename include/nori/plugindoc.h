@@ -72,10 +72,9 @@ bool registerDocComments(const std::vector<std::pair<const char *, const char *>
 /// or "" when that file has none.
 std::string docCommentOf(NoriObject::EClassType type, const std::string &name);
 
-/// Records the source files of the plugins the project ships (plugins/shipped.txt, by
-/// the generated file too); the doc test holds those to a complete doc comment.
-bool registerShippedPluginFiles(const std::vector<const char *> &files) noexcept;
-/// Whether plugin `name` comes from one of the project's own files (not a user's).
+/// Whether plugin `name` comes from one of the project's own files (not a user's; see
+/// NoriObjectFactory::registerShippedFiles); the doc test holds those to a complete doc
+/// comment.
 bool isShippedPlugin(NoriObject::EClassType type, const std::string &name);
 /// What --list-plugins and the automatic tests say about a plugin without a doc comment.
 extern const char *const kUndocumentedHint;

@@ -31,6 +31,10 @@ public:
     void set(const std::string &name, const Value &value, const std::string &location = "",
              const std::string &directory = "");
 
+    /// Adds a property the plugin may read or ignore: checkAllRead() does not report it
+    /// (a setting the command line gives every object of a kind, such as --convention).
+    void setOptional(const std::string &name, const Value &value, const std::string &location);
+
     void setBoolean(const std::string &name, bool value) { set(name, value); }
     void setInteger(const std::string &name, int value) { set(name, value); }
     void setFloat(const std::string &name, float value) { set(name, value); }

@@ -103,13 +103,13 @@ SampleSlice partSamples(const PartSpec &part, size_t totalSpp) {
 
 std::string sceneHash(const std::set<uint64_t> &fileDigests,
                       const std::map<std::string, std::string> &defines,
-                      const std::string &cameraConvention) {
+                      const std::string &convention) {
     std::string identity;
     for (uint64_t digest : fileDigests)
         identity += fmt::format("file {:016x}\n", digest);
     for (const auto &[name, value] : defines) // sorted by name
         identity += fmt::format("define {}={}\n", name, value);
-    identity += "camera-convention " + cameraConvention + "\n";
+    identity += "camera-convention " + convention + "\n";
     return fmt::format("{:016x}", hashBytes(identity));
 }
 

@@ -37,11 +37,11 @@ struct SampleSlice {
 SampleSlice partSamples(const PartSpec &part, size_t totalSpp);
 
 /// What makes two processes render the same image: the digests of every file loading
-/// the scene read (ReadFileRecorder), the -D definitions and the camera convention.
+/// the scene read (ReadFileRecorder), the -D definitions and the --convention.
 /// Returned as 16 hex digits.
 std::string sceneHash(const std::set<uint64_t> &fileDigests,
                       const std::map<std::string, std::string> &defines,
-                      const std::string &cameraConvention);
+                      const std::string &convention);
 
 /// The header of a part's EXR (attributes "nori.part", "nori.sceneHash", ...).
 struct PartHeader {

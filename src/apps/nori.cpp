@@ -79,7 +79,8 @@ struct Options {
     std::string sceneFile;
     std::string output;
     Defines defines;
-    std::string cameraConvention;
+    std::string convention;            ///< --convention (--camera-convention): "epfl" or "eth"
+    std::vector<std::string> builtins; ///< --builtin: our plugins to use instead of a user's
     int threads = 0;
     size_t samplesPerPixel = 0;
     double timeBudget = 0.0;
@@ -188,10 +189,17 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
                    "render part K of N of the image's samples into <file>_partKofN.exr, with "
                    "the weights and header `nori merge` needs")
         ->type_name("K/N");
-    app.add_option("--camera-convention", options.cameraConvention,
-                   "which way image x runs for cameras that do not say: epfl (x mirrored, "
-                   "Nori 2's default) or eth (the ETH course's Nori)")
+    app.add_option("--convention,--camera-convention", options.convention,
+                   "the course conventions of cameras and shapes that do not choose their "
+                   "own: epfl (Nori 2's, the default: image x mirrored, sphere u in [0, 1]) "
+                   "or eth (the ETH course's: not mirrored, sphere u in [-1/2, 1/2])")
         ->type_name("epfl|eth");
+    app.add_option("--builtin", options.builtins,
+                   "use our plugin NAME, not the file of yours that registers the same name "
+                   "(plugins/course/; nori says which of ours yours replace when it starts)")
+        ->type_name("NAME")
+        ->delimiter(',')
+        ->allow_extra_args(false);
     auto *noProgress = app.add_flag("--no-progress", "no progress bar");
     app.add_option("--preview", texts.previewPort,
                    "show the render in a web browser while it runs, at http://127.0.0.1:PORT/ "
@@ -261,7 +269,7 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
 /// Checks and converts the options given as text; throws NoriException naming the
 /// option.
 void checkOptions(const CLI::App &app, Options &options, const OptionTexts &texts) {
-    for (const char *flag : {"--spp", "--time", "--aovs", "--pfm", "--part", "--camera-convention",
+    for (const char *flag : {"--spp", "--time", "--aovs", "--pfm", "--part", "--convention",
                              "--preview", "--preview-wait", "-D"})
         if (app.count(flag) > 0)
             options.renderOnlyFlags.emplace_back(flag);
@@ -292,10 +300,8 @@ void checkOptions(const CLI::App &app, Options &options, const OptionTexts &text
         options.exposure = parseExposure(texts.exposure, "--exposure");
     if (!texts.part.empty())
         options.part = parsePartSpec(texts.part, "--part");
-    if (!options.cameraConvention.empty() && options.cameraConvention != "epfl" &&
-        options.cameraConvention != "eth")
-        throw NoriException("--camera-convention must be 'epfl' or 'eth', got '{}'",
-                            options.cameraConvention);
+    if (!options.convention.empty() && options.convention != "epfl" && options.convention != "eth")
+        throw NoriException("--convention must be 'epfl' or 'eth', got '{}'", options.convention);
     if (!texts.seed.empty())
         options.pluginTest.seed = static_cast<uint64_t>(parsePositive(texts.seed, "--seed"));
     if (!texts.seeds.empty())
@@ -610,7 +616,7 @@ int convertCommand(const Options &options) {
 /// Loads the scene or test file and renders or runs it; shows it on `preview` (may be null).
 int loadAndRun(const Options &options, PreviewServer *preview) {
     LoadOptions loadOptions(options.defines);
-    loadOptions.cameraConvention = options.cameraConvention;
+    loadOptions.convention = options.convention;
     std::vector<std::string> unusedDefines;
     loadOptions.unusedDefines = &unusedDefines;
     std::optional<ReadFileRecorder> readFiles; // for the scene hash of a split render
@@ -619,7 +625,7 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
     std::string outputName;
     std::shared_ptr<NoriObject> root = loadSceneFile(options.sceneFile, loadOptions, outputName);
     const std::string hash =
-        readFiles ? sceneHash(readFiles->digests(), options.defines, options.cameraConvention)
+        readFiles ? sceneHash(readFiles->digests(), options.defines, options.convention)
                   : std::string();
     readFiles.reset();
     for (const std::string &name : unusedDefines)
@@ -666,6 +672,13 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
 
 int run(Options &options) {
     NoriObjectFactory::checkRegistry();
+    for (const std::string &name : options.builtins)
+        NoriObjectFactory::useBuiltin(name);
+    for (const NoriObjectFactory::Replacement &replacement : NoriObjectFactory::replacements())
+        fmt::print(stderr, "nori: your {} '{}' ({}) replaces ours ({}); --builtin {} uses ours\n",
+                   NoriObject::classTypeName(replacement.type), replacement.name,
+                   shortSourcePath(replacement.yourFile), shortSourcePath(replacement.ourFile),
+                   replacement.name);
     if (options.version) {
         fmt::print("nori {}\n{}\n", NORI_VERSION, buildDescription());
         return 0;

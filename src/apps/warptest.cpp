@@ -57,6 +57,8 @@ std::shared_ptr<T> loadAs(const std::string &xmlOrFile, NoriObject::EClassType t
 }
 
 int run(Arguments &arguments) {
+    // A user's plugin that registers one of our names replaces ours here too.
+    NoriObjectFactory::checkRegistry();
     if (arguments.list) {
         for (const NamedWarp &warp : namedWarps())
             std::cout << warp.name

@@ -1,7 +1,10 @@
 #include <nori/object.h>
 #include <nori/strutil.h>
 
+#include <cstring>
+#include <filesystem>
 #include <map>
+#include <set>
 
 namespace nori {
 
@@ -19,9 +22,26 @@ std::map<RegistryKey, NoriObjectFactory::Entry> &registry() {
     return entries;
 }
 
-std::vector<std::string> &duplicateRegistrations() {
-    static std::vector<std::string> duplicates;
-    return duplicates;
+/// Second registrations of a name, as static initialisation made them; checkRegistry()
+/// settles them once every file (and the list of our files) has registered.
+std::vector<std::pair<std::string, NoriObjectFactory::Entry>> &secondRegistrations() {
+    static std::vector<std::pair<std::string, NoriObjectFactory::Entry>> entries;
+    return entries;
+}
+std::vector<std::string> &registrationErrors() {
+    static std::vector<std::string> errors;
+    return errors;
+}
+
+/// Our plugins that a user's replaced, by kind and name.
+std::map<RegistryKey, NoriObjectFactory::Entry> &replacedEntries() {
+    static std::map<RegistryKey, NoriObjectFactory::Entry> entries;
+    return entries;
+}
+
+std::set<std::string> &shippedFiles() {
+    static std::set<std::string> files;
+    return files;
 }
 
 /// "a bsdf", "an integrator".
@@ -33,6 +53,19 @@ std::string withArticle(NoriObject::EClassType type) {
 NoriObjectFactory::Observer &observerSlot() {
     static NoriObjectFactory::Observer instance;
     return instance;
+}
+
+/// Makes the plugin of `entry`, called `name`, and checks that it read every property.
+std::shared_ptr<NoriObject> construct(const NoriObjectFactory::Entry &entry,
+                                      const std::string &name, NoriObject::EClassType type,
+                                      const PropertyList &props) {
+    std::shared_ptr<NoriObject> object = entry.constructor(props);
+    object->setPluginName(name);
+    object->readCommonProperties(props);
+    if (observerSlot())
+        observerSlot()(type, name, props);
+    props.checkAllRead(fmt::format("{} '{}'", NoriObject::classTypeName(type), name));
+    return object;
 }
 
 } // namespace
@@ -73,27 +106,100 @@ void NoriObjectFactory::registerClass(const std::string &name, NoriObject::EClas
 bool NoriObjectFactory::registerStatic(const std::string &name, NoriObject::EClassType type,
                                        Constructor constructor, const char *sourceFile) noexcept {
     try {
-        registerClass(name, type, std::move(constructor), sourceFile);
+        Entry entry{type, std::move(constructor), sourceFile};
+        if (!registry().emplace(RegistryKey(type, name), entry).second)
+            secondRegistrations().emplace_back(name, std::move(entry));
         return true;
     } catch (const std::exception &error) {
         try {
-            duplicateRegistrations().push_back(error.what());
+            registrationErrors().push_back(error.what());
         } catch (...) {
         }
         return false;
     }
 }
 
+bool NoriObjectFactory::registerShippedFiles(const std::vector<const char *> &files) noexcept {
+    try {
+        for (const char *file : files)
+            shippedFiles().insert(std::filesystem::path(file).lexically_normal().string());
+        return true;
+    } catch (...) {
+        return false;
+    }
+}
+
+bool NoriObjectFactory::isShippedFile(const std::string &sourceFile) {
+    return shippedFiles().count(std::filesystem::path(sourceFile).lexically_normal().string()) != 0;
+}
+
 void NoriObjectFactory::checkRegistry() {
-    std::vector<std::string> duplicates;
-    std::swap(duplicates, duplicateRegistrations());
-    if (!duplicates.empty())
-        throw NoriException("{}", fmt::join(duplicates, "; "));
+    std::vector<std::string> errors;
+    std::swap(errors, registrationErrors());
+    std::vector<std::pair<std::string, Entry>> seconds;
+    std::swap(seconds, secondRegistrations());
+    for (auto &[name, second] : seconds) {
+        const RegistryKey key(second.type, name);
+        Entry &first = registry().at(key);
+        const bool firstOurs = isShippedFile(first.sourceFile),
+                   secondOurs = isShippedFile(second.sourceFile);
+        if (firstOurs && !secondOurs) {
+            replacedEntries()[key] = std::move(first);
+            first = std::move(second);
+        } else if (!firstOurs && secondOurs) {
+            replacedEntries()[key] = std::move(second);
+        } else {
+            errors.push_back(
+                fmt::format("plugin name '{}' is registered twice as {} (in {} and {})", name,
+                            withArticle(second.type), first.sourceFile, second.sourceFile));
+        }
+    }
+    if (!errors.empty())
+        throw NoriException("{}", fmt::join(errors, "; "));
+}
+
+std::vector<NoriObjectFactory::Replacement> NoriObjectFactory::replacements() {
+    std::vector<Replacement> result;
+    for (const auto &[key, ours] : replacedEntries())
+        result.push_back({key.first, key.second, registry().at(key).sourceFile, ours.sourceFile});
+    return result;
+}
+
+void NoriObjectFactory::useBuiltin(const std::string &name) {
+    bool found = false;
+    for (auto it = replacedEntries().begin(); it != replacedEntries().end();) {
+        if (it->first.second != name) {
+            ++it;
+            continue;
+        }
+        registry().at(it->first) = std::move(it->second);
+        it = replacedEntries().erase(it);
+        found = true;
+    }
+    if (!found) {
+        std::vector<std::string> replaced;
+        for (const auto &[key, entry] : replacedEntries())
+            replaced.push_back(key.second);
+        throw NoriException(
+            "--builtin {}: no plugin of yours replaces one of ours called '{}'{}", name, name,
+            replaced.empty() ? std::string(" (none of yours replaces one of ours)")
+                             : fmt::format(" (yours replace: {})", fmt::join(replaced, ", ")));
+    }
 }
 
 std::shared_ptr<NoriObject> NoriObjectFactory::createInstance(const std::string &name,
                                                               NoriObject::EClassType expectedType,
                                                               const PropertyList &props) {
+    // "builtin:NAME" is our plugin NAME, also when a user's replaced it (the reference of
+    // the automatic tests of a user's plugin).
+    const bool builtin = name.rfind(kBuiltinPrefix, 0) == 0;
+    if (builtin) {
+        const std::string ours = name.substr(std::strlen(kBuiltinPrefix));
+        const auto replaced = replacedEntries().find(RegistryKey(expectedType, ours));
+        if (replaced != replacedEntries().end())
+            return construct(replaced->second, ours, expectedType, props);
+        return createInstance(ours, expectedType, props);
+    }
     auto it = registry().find(RegistryKey(expectedType, name));
     if (it == registry().end()) {
         for (const auto &[key, entry] : registry())
@@ -111,13 +217,7 @@ std::shared_ptr<NoriObject> NoriObjectFactory::createInstance(const std::string 
         throw NoriException("unknown {} plugin '{}'{}", NoriObject::classTypeName(expectedType),
                             name, hint);
     }
-    std::shared_ptr<NoriObject> object = it->second.constructor(props);
-    object->setPluginName(name);
-    object->readCommonProperties(props);
-    if (observerSlot())
-        observerSlot()(expectedType, name, props);
-    props.checkAllRead(fmt::format("{} '{}'", NoriObject::classTypeName(expectedType), name));
-    return object;
+    return construct(it->second, name, expectedType, props);
 }
 
 std::vector<std::pair<NoriObject::EClassType, std::string>> NoriObjectFactory::registeredClasses() {

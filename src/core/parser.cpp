@@ -271,7 +271,7 @@ void install() {
 class Parser {
 public:
     explicit Parser(const LoadOptions &options)
-        : m_defines(options.defines), m_cameraConvention(options.cameraConvention) {
+        : m_defines(options.defines), m_convention(options.convention) {
         xmlmemory::install();
     }
 
@@ -552,9 +552,11 @@ private:
         parseChildren(file, node, &frame, nullptr);
         if (attributes.count("id"))
             m_openIds.pop_back();
-        if (classType == NoriObject::ECamera && !m_cameraConvention.empty() &&
-            !frame.props.contains("convention"))
-            frame.props.set("convention", m_cameraConvention, "command line (--camera-convention)");
+        // --convention: for every camera and shape that does not choose its own (those
+        // with no convention of their own ignore it).
+        if ((classType == NoriObject::ECamera || classType == NoriObject::EMesh) &&
+            !m_convention.empty() && !frame.props.contains("convention"))
+            frame.props.setOptional("convention", m_convention, "command line (--convention)");
 
         bindNamedTextures(frame);
         const std::string description = fmt::format("<{} type=\"{}\">", tag, type);
@@ -754,7 +756,7 @@ private:
 
     Defines m_defines;
     std::set<std::string> m_usedDefines;
-    std::string m_cameraConvention;
+    std::string m_convention;
     bool m_transformOfCamera = false; ///< the <transform> being read belongs to a <camera>
     std::map<std::string, std::pair<std::shared_ptr<NoriObject>, std::string>> m_ids;
     std::vector<std::string> m_includeStack;

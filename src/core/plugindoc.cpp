@@ -228,32 +228,14 @@ bool registerDocComments(const std::vector<std::pair<const char *, const char *>
     }
 }
 
-namespace {
-std::set<std::string> &shippedFiles() {
-    static std::set<std::string> files;
-    return files;
-}
-} // namespace
-
-bool registerShippedPluginFiles(const std::vector<const char *> &files) noexcept {
-    try {
-        for (const char *file : files)
-            shippedFiles().insert(std::filesystem::path(file).lexically_normal().string());
-        return true;
-    } catch (...) {
-        return false;
-    }
-}
-
 bool isShippedPlugin(NoriObject::EClassType type, const std::string &name) {
-    const std::string &source = NoriObjectFactory::entry(type, name).sourceFile;
-    return shippedFiles().count(std::filesystem::path(source).lexically_normal().string()) != 0;
+    return NoriObjectFactory::isShippedFile(NoriObjectFactory::entry(type, name).sourceFile);
 }
 
 const char *const kUndocumentedHint =
-    "undocumented: its file starts with no doc comment, so it has no parameter list, and no "
-    "examples for the sampling tests of BSDFs, phase functions and emitters (an integrator "
-    "is tested all the same); docs/nori2.md says how to write one";
+    "undocumented: its file starts with no doc comment, so it has no parameter list, and the "
+    "sampling tests of a BSDF, phase function or emitter use its default parameters only "
+    "(an integrator is tested all the same); docs/nori2.md says how to write one";
 
 std::string docCommentOf(NoriObject::EClassType type, const std::string &name) {
     const auto it = docComments().find(NoriObjectFactory::entry(type, name).sourceFile);

@@ -32,6 +32,12 @@ void PropertyList::set(const std::string &name, const Value &value, const std::s
                                    it->second.location.empty() ? "?" : it->second.location));
 }
 
+void PropertyList::setOptional(const std::string &name, const Value &value,
+                               const std::string &location) {
+    set(name, value, location);
+    m_properties.at(name).read = true;
+}
+
 template <typename T> const T *PropertyList::find(const std::string &name) const {
     m_queried.insert(name);
     auto it = m_properties.find(name);

@@ -12,17 +12,6 @@ void Camera::addChild(const std::shared_ptr<NoriObject> &child, const std::strin
         NoriObject::addChild(child, name);
 }
 
-Camera::Convention Camera::readConvention(const PropertyList &props) {
-    const std::string name = props.getString("convention", "epfl");
-    if (name == "epfl")
-        return Convention::EPFL;
-    if (name == "eth")
-        return Convention::ETH;
-    throw NoriException("'convention' must be \"epfl\" (image x mirrored, Nori 2's default) "
-                        "or \"eth\" (not mirrored), got '{}'",
-                        name);
-}
-
 void Camera::readFilm(const PropertyList &props) {
     m_fullSize = Vector2i(props.getInteger("width", 1280), props.getInteger("height", 720));
     m_cropOffset = Vector2i(props.getInteger("cropOffsetX", 0), props.getInteger("cropOffsetY", 0));

@@ -29,7 +29,7 @@ void SceneBoundingSphere::placeBeyond(EmitterQueryRecord &lRec) const {
     const float distance = (lRec.ref - center).norm() + 2.0f * radius;
     lRec.p = lRec.ref + distance * lRec.wi;
     lRec.n = Normal3f(-lRec.wi);
-    lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance);
+    lRec.setShadowRay(distance);
 }
 
 float SceneBoundingSphere::photonRayFrom(const Vector3f &toLight, const Point2f &sample,
@@ -81,7 +81,7 @@ float Emitter::aimAtPoint(EmitterQueryRecord &lRec, const Point3f &position) {
     lRec.wi = toLight / distance;
     lRec.n = Normal3f(-lRec.wi);
     lRec.pdf = 1.0f; // a delta distribution: the weight is the incident radiance's integral
-    lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance * (1.0f - kShadowEpsilon));
+    lRec.setShadowRay(distance);
     return distanceSquared;
 }
 

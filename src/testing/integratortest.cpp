@@ -62,7 +62,8 @@ PluginTestResult testIntegratorPlugin(const std::string &name, const PluginTestO
                                      parameters.empty() ? " without parameters" : "", error.what());
         return result;
     }
-    const std::string reference = referenceIntegrator(quantity);
+    // Our integrator of that quantity, also when a user's file replaced it.
+    const std::string reference = kBuiltinPrefix + std::string(referenceIntegrator(quantity));
     const bool radiance = quantity == IntegratorQuantity::Radiance;
     const std::vector<AgreementScene> scenes = integratorTestScenes(
         fmt::format(R"(<integrator type="{}">{}</integrator>)", name, parameters),
@@ -102,11 +103,11 @@ PluginTestResult testIntegratorPlugin(const std::string &name, const PluginTestO
     // With 16 batches each, the difference over its standard error follows Student's t
     // with about 30 degrees of freedom: beyond 4 with probability 4e-4, so that a correct
     // integrator fails one of ~20 comparisons with probability below 1 %.
-    result.report +=
-        fmt::format("  {} comparisons with {} ({} batches each, disagreement beyond {:g} standard "
-                    "errors)\n  verdict: {}\n",
-                    comparisons, withMedia && radiance ? "path_mis and volpath" : reference,
-                    settings.batches, settings.threshold, result.passed ? "pass" : "FAIL");
+    result.report += fmt::format(
+        "  {} comparisons with {} ({} batches each, disagreement beyond {:g} standard "
+        "errors)\n  verdict: {}\n",
+        comparisons, withMedia && radiance ? "path_mis and volpath" : referenceIntegrator(quantity),
+        settings.batches, settings.threshold, result.passed ? "pass" : "FAIL");
     return result;
 }
 

@@ -122,6 +122,28 @@ std::shared_ptr<NoriObject> subjectOf(const std::shared_ptr<NoriObject> &root,
                         NoriObject::classTypeName(type));
 }
 
+/// The plugin `name` of kind `kind` made with its default parameters (for an emitter, on
+/// its own or, when it needs a shape, on a sphere), or null with `failure` saying why.
+std::shared_ptr<NoriObject> loadWithDefaults(NoriObject::EClassType kind, const std::string &name,
+                                             std::string &failure) {
+    const std::string tag = NoriObject::classTypeName(kind);
+    std::vector<std::string> candidates = {fmt::format("<{} type=\"{}\"/>", tag, name)};
+    if (kind == NoriObject::EEmitter)
+        candidates.push_back(
+            fmt::format("<mesh type=\"sphere\"><float name=\"radius\" value=\"0.5\"/><emitter "
+                        "type=\"{}\"/></mesh>",
+                        name));
+    for (const std::string &xml : candidates) {
+        try {
+            return loadFromXMLString(xml, NORI_SOURCE_DIR);
+        } catch (const NoriException &error) {
+            if (failure.empty())
+                failure = error.what();
+        }
+    }
+    return nullptr;
+}
+
 /// Checks the samples of a BSDF for incident direction wi: directions, weights, laws of
 /// discrete lobes, weight = eval·cos/pdf, reciprocity and energy.
 void checkBSDFValues(const BSDF &bsdf, const Vector3f &wi, PCG32 &random, Case &c) {
@@ -320,13 +342,26 @@ PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOpt
     }
     const std::string comment = docCommentOf(kind, name);
     PluginDoc doc;
-    if (!isShippedPlugin(kind, name)) {
-        // A user's plugin (a course file dropped into plugins/): without a doc comment that
-        // gives examples, it is listed as not tested, never failed, and the others go on.
-        if (comment.empty()) {
-            result.report += fmt::format("  not tested: {}\n", kUndocumentedHint);
+    std::vector<std::shared_ptr<NoriObject>> roots, subjects;
+    const bool ours = isShippedPlugin(kind, name);
+    if (!ours && comment.empty()) {
+        // A user's plugin (a course file dropped into plugins/course/) without a doc comment
+        // that gives examples is tested at its default parameters; one that does not load
+        // with them is listed as not tested, never failed.
+        std::string failure;
+        std::shared_ptr<NoriObject> root = loadWithDefaults(kind, name, failure);
+        if (!root) {
+            result.report += fmt::format(
+                "  not tested: it has no doc comment giving examples, and it does not load "
+                "with its default parameters ({}); docs/nori2.md says how to write one\n",
+                failure);
             return result;
         }
+        result.report += "  no doc comment: tested at its default parameters (a doc comment's "
+                         "examples test others; docs/nori2.md says how)\n";
+        roots.push_back(root);
+        subjects.push_back(subjectOf(root, entry.type));
+    } else if (!ours) {
         try {
             doc = parsePluginDoc(comment);
         } catch (const NoriException &error) {
@@ -347,13 +382,12 @@ PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOpt
         result.report += "  exempt: " + doc.exemption + "\n";
         return result;
     }
-    if (doc.examples.empty())
+    if (subjects.empty() && doc.examples.empty())
         throw NoriException("{}: the doc comment of '{}' has no example to test", entry.sourceFile,
                             name);
     result.tested = true;
 
     // Load every example first: the χ² tests of the plugin share one significance level.
-    std::vector<std::shared_ptr<NoriObject>> roots, subjects;
     for (const std::string &example : doc.examples) {
         try {
             roots.push_back(loadFromXMLString(example, NORI_SOURCE_DIR));

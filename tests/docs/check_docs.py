@@ -70,10 +70,10 @@ def check_plugins(root, nori):
         elif line.startswith("  ") and kind:
             registered[kind].add(line.split()[0])
     registered.pop("scene", None)  # the root object, not a plugin one chooses
-    # A plugin from a file that is not the project's own (plugins/shipped.txt: a user's file
-    # dropped into plugins/) is not in the table, and need not be.
-    shipped = {"plugins/" + line.strip() for line in
-               (root / "plugins" / "shipped.txt").read_text().splitlines()
+    # A plugin from a file that is not the project's own (plugins/builtin/shipped.txt: a
+    # user's file dropped into plugins/course/) is not in the table, and need not be.
+    shipped = {"plugins/builtin/" + line.strip() for line in
+               (root / "plugins" / "builtin" / "shipped.txt").read_text().splitlines()
                if line.strip() and not line.startswith("#")}
 
     def is_shipped(name):

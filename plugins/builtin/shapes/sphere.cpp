@@ -1,7 +1,8 @@
 /*
- * sphere — an analytic sphere. uv as the course defines them: with n the unit normal,
- * u = 0.5 + atan2(n.y, n.x)/2π around +z and v = 0.5 + asin(n.z)/π from the south pole
- * (v = 0) to the north pole (v = 1).
+ * sphere — an analytic sphere. uv as the courses define them: with n the unit normal,
+ * φ = atan2(n.y, n.x) around +z and θ = acos(n.z) from +z, v = 1 − θ/π runs from the
+ * south pole (v = 0) to the north pole (v = 1), and u = ½ + φ/2π in [0, 1] (Nori 2's
+ * and EPFL's convention, the default) or u = φ/2π in [−½, ½] (ETH's 2024 course).
  *
  * As an area light it is sampled through the cone of directions it subtends
  * (PBR 4th ed. §6.2.4) when the reference point is outside, by area otherwise.
@@ -13,6 +14,8 @@
  *                                    lit from inside)
  *   uvScale      vector   (1, 1)     uv are scaled by this for textures (a <float>
  *                                    scales both)
+ *   convention   string   "epfl"     "epfl": u in [0, 1]; "eth": u in [−½, ½]; see
+ *                                    nori --convention
  *   normal       texture  —          tangent-space normal map (decoded as 2c − 1)
  *   bump         texture  —          height map for bump mapping (instead of normal)
  *   bumpScale    float    1          the heights are scaled by this
@@ -23,6 +26,7 @@
  *       <point name="center" value="0, 1, 0"/> <float name="radius" value="0.5"/>
  *   </mesh>
  */
+#include <nori/convention.h>
 #include <nori/rayerror.h>
 #include <nori/shading.h>
 #include <nori/shape.h>
@@ -37,6 +41,7 @@ public:
         m_center = props.getPoint("center", Point3f(0.0f));
         m_radius = props.getFloat("radius", 1.0f);
         m_flipNormals = props.getBoolean("flipNormals", false);
+        m_uOffset = readCourseConvention(props) == CourseConvention::EPFL ? 0.5f : 0.0f;
         readSurfaceParameters(*this, props);
         if (!(m_radius > 0.0f) || !std::isfinite(m_radius))
             throw NoriException("sphere: 'radius' must be positive, got {}", m_radius);
@@ -162,17 +167,19 @@ public:
     }
 
     std::string toString() const override {
-        return fmt::format("Sphere[center=({}, {}, {}), radius={}, flipNormals={}]", m_center.x(),
-                           m_center.y(), m_center.z(), m_radius, m_flipNormals);
+        return fmt::format("Sphere[center=({}, {}, {}), radius={}, flipNormals={}, convention={}]",
+                           m_center.x(), m_center.y(), m_center.z(), m_radius, m_flipNormals,
+                           m_uOffset == 0.0f ? "eth" : "epfl");
     }
 
 private:
-    /// Longitude φ and latitude β of the unit outward direction n: u = 0.5 + φ/2π,
-    /// v = 0.5 + β/π (the course's convention).
-    static Point2f uvOf(const Vector3f &n) {
+    /// uv of the unit outward direction n: u = offset + φ/2π, v = 1 − θ/π, computed as
+    /// the courses do, so that a pole is hit exactly (v = 1 at n = +z: uvtexture's
+    /// |fmod(v, 1)| is then 0, as the course's references expect).
+    Point2f uvOf(const Vector3f &n) const {
         const float phi = std::atan2(n.y(), n.x());
-        const float beta = std::asin(std::clamp(n.z(), -1.0f, 1.0f));
-        return Point2f(0.5f + phi * kInvTwoPi, 0.5f + beta * kInvPi);
+        const float theta = std::acos(std::clamp(n.z(), -1.0f, 1.0f));
+        return Point2f(m_uOffset + phi * kInvTwoPi, 1.0f - theta * kInvPi);
     }
 
     /// Whether a reference point at this squared distance from the centre is clearly
@@ -185,6 +192,7 @@ private:
     Point3f m_center;
     float m_radius;
     bool m_flipNormals;
+    float m_uOffset; ///< ½ (EPFL: u in [0, 1]) or 0 (ETH: u in [−½, ½])
 };
 
 NORI_REGISTER_CLASS(Sphere, "sphere");

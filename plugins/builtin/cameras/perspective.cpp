@@ -15,7 +15,7 @@
  *   farClip     float      1e4       distance of the far clipping plane
  *   toWorld     transform  identity  camera-to-world transform
  *   convention  string     "epfl"    "epfl": x mirrored (Nori 2, Mitsuba); "eth": not
- *                                    mirrored (the ETH course); see nori --camera-convention
+ *                                    mirrored (the ETH course); see nori --convention
  *   apertureRadius, lensRadius  float  0  radius of the lens; 0 is a pinhole (the same
  *                                     images); lensRadius: pbrt's and the courses' name
  *   focalDistance   float  10        distance (along the view axis) of the sharp plane

@@ -92,7 +92,7 @@ public:
             return Color3f(0.0f);
         lRec.wi = toLight / distance;
         lRec.pdf = point.pdf;
-        lRec.shadowRay = Ray3f(lRec.ref, lRec.wi, 0.0f, distance * (1.0f - kShadowEpsilon));
+        lRec.setShadowRay(distance);
         const Color3f radiance = eval(lRec);
         return (radiance == 0.0f).all() ? radiance : Color3f(radiance / lRec.pdf);
     }

@@ -5,16 +5,22 @@
  * one; otherwise the geometric normal and barycentric uvs are.
  *
  * Parameters:
- *   filename   string     (required)  OBJ file, relative to the XML file's folder
- *   toWorld    transform  identity    object-to-world transform
- *   uvScale    vector     (1, 1)      uv are scaled by this for textures (a <float>
- *                                     scales both)
- *   normal     texture    —           tangent-space normal map (decoded as 2c − 1;
- *                                     tangents follow dp/du, smoothed per vertex)
- *   bump       texture    —           height map for bump mapping (instead of normal)
- *   bumpScale  float      1           the heights are scaled by this
- *   visible    boolean    true        false: the mesh is only a template that its tmesh
- *                                     children copy (course exporters write one)
+ *   filename       string     (required)  OBJ file, relative to the XML file's folder
+ *   toWorld        transform  identity    object-to-world transform
+ *   faceNormals    boolean    false       ignore the file's vertex normals (flat shading)
+ *   flipNormals    boolean    false       reverse the faces' orientation (winding and
+ *                                         normals)
+ *   flipTexCoords  boolean    false       v → 1 − v (for files whose v runs down the
+ *                                         image; Mitsuba's flipTexCoords=false)
+ *   uvScale        vector     (1, 1)      uv are scaled by this for textures (a <float>
+ *                                         scales both)
+ *   normal         texture    —           tangent-space normal map (decoded as 2c − 1;
+ *                                         tangents follow dp/du, smoothed per vertex)
+ *   bump           texture    —           height map for bump mapping (instead of
+ *                                         normal)
+ *   bumpScale      float      1           the heights are scaled by this
+ *   visible        boolean    true        false: the mesh is only a template that its
+ *                                         tmesh children copy (course exporters write one)
  *
  * Children: a <bsdf>, an <emitter> (an area light), and <mesh type="tmesh"> copies.
  *
@@ -32,6 +38,7 @@
  */
 #include <nori/filesystem.h>
 #include <nori/mesh.h>
+#include <nori/meshdata.h>
 #include <nori/shading.h>
 #include <nori/strutil.h>
 
@@ -167,6 +174,9 @@ public:
     explicit WavefrontOBJ(const PropertyList &props) {
         m_name = props.getPath("filename");
         const Transform toWorld = props.getTransform("toWorld", Transform());
+        const bool faceNormals = props.getBoolean("faceNormals", false);
+        const bool flipNormals = props.getBoolean("flipNormals", false);
+        const bool flipTexCoords = props.getBoolean("flipTexCoords", false);
         readSurfaceParameters(*this, props);
 
         std::istringstream in(readTextFile(m_name, "OBJ mesh file"));
@@ -177,14 +187,20 @@ public:
                                             [](const Corner &c) { return c.texCoord >= 0; });
         const bool allHaveNormals = std::all_of(parser.corners.begin(), parser.corners.end(),
                                                 [](const Corner &c) { return c.normal >= 0; });
+        MeshData data;
         for (const Corner &corner : parser.corners) {
-            m_positions.push_back(parser.rawPositions()[corner.position]);
-            if (allHaveUVs)
-                m_texCoords.push_back(parser.rawTexCoords()[corner.texCoord]);
+            data.positions.push_back(parser.rawPositions()[corner.position]);
+            if (allHaveUVs) {
+                Point2f uv = parser.rawTexCoords()[corner.texCoord];
+                if (flipTexCoords)
+                    uv.y() = 1.0f - uv.y();
+                data.texCoords.push_back(uv);
+            }
             if (allHaveNormals)
-                m_normals.push_back(parser.rawNormals()[corner.normal]);
+                data.normals.push_back(parser.rawNormals()[corner.normal]);
         }
-        m_faces = std::move(parser.triangles);
+        data.triangles = std::move(parser.triangles);
+        takeMeshData(std::move(data), faceNormals, flipNormals);
         finishLoading(toWorld);
     }
 };
