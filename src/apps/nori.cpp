@@ -11,6 +11,7 @@
 #include "testing/plugintest.h"
 #include <nori/aov.h>
 #include <nori/filesystem.h>
+#include <nori/mitsubaimport.h>
 #include <nori/parser.h>
 #include <nori/pbrtimport.h>
 #include <nori/plugindoc.h>
@@ -103,6 +104,7 @@ struct Options {
     bool merge = false; ///< `nori merge`: merge `parts` into `output`
     bool convert = false; ///< `nori convert`: write `convertInput` as our XML into `output`
     std::string convertInput;
+    std::string format; ///< --format: "nori", "mitsuba" or "" (by the file)
     std::vector<std::string> parts;
     bool allowMissing = false;
     std::vector<std::string> renderOnlyFlags; ///< given flags that merge does not take
@@ -153,7 +155,13 @@ std::vector<std::string> attachPreviewPorts(int argc, char **argv) {
 void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
     app.footer(kFooter);
     app.add_option("file", options.sceneFile,
-                   "the scene or test file (.xml), or a pbrt-v4 scene (.pbrt, .pbrt.gz)");
+                   "the scene or test file (.xml; a Mitsuba scene too), or a pbrt-v4 scene "
+                   "(.pbrt, .pbrt.gz)");
+    app.add_option("--format", options.format,
+                   "read the XML file as ours (nori) or as Mitsuba's (mitsuba); by default a "
+                   "<scene version=...> is Mitsuba's (docs/mitsuba-scenes.md)")
+        ->type_name("nori|mitsuba")
+        ->check(CLI::IsMember({"nori", "mitsuba"}));
     app.add_option("-D", texts.defines,
                    "define $name for the XML file (wins over <default>); repeatable")
         ->type_name("name=value")
@@ -257,10 +265,12 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
     app.add_flag("--allow-missing", options.allowMissing, "(nori merge's)")->group("");
 
     CLI::App *convert = app.add_subcommand(
-        "convert", "write a pbrt-v4 scene (.pbrt, .pbrt.gz) as our XML: OUT.xml, with its large "
-                   "inline meshes as PLY files in OUT_meshes/ (docs/pbrt-scenes.md)");
+        "convert", "write a pbrt-v4 scene (.pbrt, .pbrt.gz) or a Mitsuba scene (.xml) as our "
+                   "XML: OUT.xml (a pbrt-v4 scene's large inline meshes as PLY files in "
+                   "OUT_meshes/; docs/pbrt-scenes.md, docs/mitsuba-scenes.md)");
     convert->footer("");
-    convert->add_option("scene", options.convertInput, "the pbrt-v4 file")->type_name("SCENE.pbrt");
+    convert->add_option("scene", options.convertInput, "the pbrt-v4 or Mitsuba file")
+        ->type_name("SCENE");
     convert->add_option("-o,--output", options.output, "the XML file to write")
         ->type_name("OUT.xml");
     convert->callback([&options] { options.convert = true; });
@@ -563,16 +573,48 @@ void printWarnings(const std::vector<std::string> &warnings) {
         fmt::print(stderr, "Warning: {}\n", warning);
 }
 
-/// Loads our XML, or a pbrt-v4 file through the importer (its XML loaded from memory, the
-/// grids it writes kept in a temporary folder until the load has read them). `outputName`
-/// receives a pbrt-v4 film's filename.
-std::shared_ptr<NoriObject> loadSceneFile(const std::string &file, const LoadOptions &loadOptions,
-                                          std::string &outputName) {
+/// Whether `file` is to be read as a Mitsuba scene: as --format says, else when its
+/// <scene> has a version attribute.
+bool readsAsMitsuba(const std::string &file, const std::string &format) {
+    return format == "mitsuba" || (format.empty() && mitsuba::isMitsubaFile(file));
+}
+
+/// The Mitsuba scene `file` as our XML, to be read from `xmlDirectory`.
+mitsuba::Conversion convertMitsuba(const std::string &file, const Defines &defines,
+                                   const std::string &xmlDirectory) {
+    mitsuba::ConvertOptions convertOptions;
+    convertOptions.defines = defines;
+    convertOptions.xmlDirectory = xmlDirectory;
+    mitsuba::Conversion conversion = mitsuba::convertFile(file, convertOptions);
+    printWarnings(conversion.warnings);
+    return conversion;
+}
+
+/// Loads our XML, a Mitsuba file or a pbrt-v4 file through its importer (their XML loaded
+/// from memory; pbrt-v4's grids kept in a temporary folder until the load has read them).
+/// `format` is --format's ("", "nori" or "mitsuba"). `outputName` receives a pbrt-v4
+/// film's filename.
+std::shared_ptr<NoriObject> loadSceneFile(const std::string &file, const std::string &format,
+                                          const LoadOptions &loadOptions, std::string &outputName) {
+    const std::string folder = fs::path(file).parent_path().string();
+    if (format != "nori" && readsAsMitsuba(file, format)) {
+        const mitsuba::Conversion conversion =
+            convertMitsuba(file, loadOptions.defines, folder.empty() ? "." : folder);
+        // -D names the Mitsuba file's $variables, not our XML's.
+        LoadOptions xmlOptions = loadOptions;
+        xmlOptions.defines.clear();
+        if (loadOptions.unusedDefines)
+            for (const auto &[name, value] : loadOptions.defines)
+                if (std::find(conversion.variables.begin(), conversion.variables.end(), name) ==
+                    conversion.variables.end())
+                    loadOptions.unusedDefines->push_back(name);
+        xmlOptions.unusedDefines = nullptr;
+        return loadFromXMLString(conversion.xml, folder.empty() ? "." : folder, xmlOptions);
+    }
     if (!pbrt::isPbrtFile(file))
         return loadFromXML(file, loadOptions);
     const TemporaryFolder sideFiles;
     pbrt::ConvertOptions convertOptions;
-    const std::string folder = fs::path(file).parent_path().string();
     convertOptions.xmlDirectory = folder.empty() ? "." : folder;
     convertOptions.sideFileDirectory = sideFiles.path();
     const pbrt::Conversion conversion = pbrt::convertFile(file, convertOptions);
@@ -581,18 +623,33 @@ std::shared_ptr<NoriObject> loadSceneFile(const std::string &file, const LoadOpt
     return loadFromXMLString(conversion.xml, convertOptions.xmlDirectory, loadOptions);
 }
 
-/// `nori convert SCENE.pbrt -o OUT.xml`: our XML, large inline meshes as PLY files beside it.
+/// `nori convert SCENE.pbrt -o OUT.xml`: our XML, large inline meshes as PLY files beside
+/// it; `nori convert SCENE.xml -o OUT.xml` for a Mitsuba scene.
 int convertCommand(const Options &options) {
     if (options.convertInput.empty())
-        throw NoriException("convert: no pbrt-v4 file given (nori convert SCENE.pbrt -o OUT.xml)");
-    if (!pbrt::isPbrtFile(options.convertInput))
-        throw NoriException("convert: '{}' is not a pbrt-v4 file (.pbrt or .pbrt.gz)",
+        throw NoriException("convert: no scene given (nori convert SCENE.pbrt|SCENE.xml -o "
+                            "OUT.xml)");
+    const bool isMitsuba =
+        options.format != "nori" && readsAsMitsuba(options.convertInput, options.format);
+    if (!isMitsuba && !pbrt::isPbrtFile(options.convertInput))
+        throw NoriException("convert: '{}' is neither a pbrt-v4 file (.pbrt or .pbrt.gz) nor "
+                            "a Mitsuba scene (a <scene version=...>)",
                             options.convertInput);
     if (options.output.empty())
         throw NoriException("convert: no output given (-o OUT.xml)");
     fs::path output(options.output);
     if (toLower(output.extension().string()) != ".xml")
         output += ".xml";
+    if (isMitsuba) {
+        const std::string folder = output.parent_path().string();
+        const mitsuba::Conversion conversion =
+            convertMitsuba(options.convertInput, options.defines, folder.empty() ? "." : folder);
+        if (!output.parent_path().empty())
+            fs::create_directories(output.parent_path());
+        writeBinaryFile(output.string(), conversion.xml, "the converted scene");
+        fmt::print(stderr, "Wrote {}\n", output.string());
+        return 0;
+    }
     pbrt::ConvertOptions convertOptions;
     const std::string folder = output.parent_path().string();
     convertOptions.xmlDirectory = folder.empty() ? "." : folder;
@@ -623,7 +680,8 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
     if (options.part)
         readFiles.emplace();
     std::string outputName;
-    std::shared_ptr<NoriObject> root = loadSceneFile(options.sceneFile, loadOptions, outputName);
+    std::shared_ptr<NoriObject> root =
+        loadSceneFile(options.sceneFile, options.format, loadOptions, outputName);
     const std::string hash =
         readFiles ? sceneHash(readFiles->digests(), options.defines, options.convention)
                   : std::string();

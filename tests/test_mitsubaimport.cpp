@@ -1,0 +1,299 @@
+// The Mitsuba importer (mitsubaimport.h): both dialects rendering bit for bit as our
+// hand-written XML, the conversions where Mitsuba's definitions differ from ours (fovAxis,
+// focalLength, sRGB, spectra, depths) against their closed forms, and its errors.
+#include <nori/imagefile.h>
+#include <nori/mitsubaimport.h>
+
+#include "testutil.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+
+using namespace nori;
+using namespace nori::testing;
+using Catch::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kMitsubaTestPi = 3.14159265358979323846;
+
+/// A Mitsuba scene around `body`: a 200 × 100 film, our defaults otherwise.
+std::string mitsubaScene(const std::string &body, const std::string &sensor = "",
+                         const std::string &version = "0.6.0") {
+    return fmt::format(R"(<scene version="{}">
+    <sensor type="perspective">
+        {}
+        <film type="hdrfilm">
+            <integer name="width" value="200"/><integer name="height" value="100"/>
+        </film>
+    </sensor>
+    {}
+</scene>)",
+                       version, sensor.empty() ? R"(<float name="fov" value="40"/>)" : sensor,
+                       body);
+}
+
+mitsuba::Conversion importMitsuba(const std::string &text,
+                                  const std::map<std::string, std::string> &defines = {}) {
+    mitsuba::ConvertOptions options;
+    options.defines = defines;
+    return mitsuba::convertText(text, "test.xml", options);
+}
+
+/// The number after `name="NAME" value="` in the XML (its first one, of a list).
+double mitsubaNumber(const std::string &xml, const std::string &name) {
+    const std::string key = "name=\"" + name + "\" value=\"";
+    const size_t at = xml.find(key);
+    REQUIRE(at != std::string::npos);
+    return std::stod(xml.substr(at + key.size()));
+}
+
+/// The three numbers after `name="NAME" value="`.
+Color3f mitsubaColor(const std::string &xml, const std::string &name) {
+    const std::string key = "name=\"" + name + "\" value=\"";
+    const size_t at = xml.find(key);
+    REQUIRE(at != std::string::npos);
+    float r = 0, g = 0, b = 0;
+    REQUIRE(std::sscanf(xml.c_str() + at + key.size(), "%f, %f, %f", &r, &g, &b) == 3);
+    return Color3f(r, g, b);
+}
+
+double degrees(double radians) {
+    return radians * 180.0 / kMitsubaTestPi;
+}
+double radians(double degrees) {
+    return degrees * kMitsubaTestPi / 180.0;
+}
+
+} // namespace
+
+TEST_CASE("Mitsuba 0.6 and 3 scenes render bit for bit as our hand-written XML",
+          "[mitsuba][import][cli]") {
+    const fs::path data = fs::path(NORI_SOURCE_DIR) / "tests/data/mitsuba";
+    const TempDir dir;
+    std::vector<Bitmap> images;
+    for (const char *scene : {"scene-ours.xml", "scene-0.6.xml", "scene-3.xml"}) {
+        const std::string output = (dir.path() / fs::path(scene).stem()).string();
+        const ProcessResult result =
+            runNori({(data / scene).string(), "--no-progress", "-o", output});
+        INFO(scene << ": " << result.output);
+        REQUIRE(result.exitCode == 0);
+        // Every mapping of these scenes is exact: no stand-in, no warning.
+        CHECK_THAT(result.output, !Contains("Warning"));
+        images.push_back(readImageFile(output + ".exr").pixels);
+    }
+    CHECK(identicalImages(images[0], images[1]));
+    CHECK(identicalImages(images[0], images[2]));
+
+    // `nori convert` writes XML that renders the same image, from another folder.
+    const ProcessResult converted = runNori({"convert", (data / "scene-0.6.xml").string(), "-o",
+                                             (dir.path() / "out/ours.xml").string()});
+    INFO(converted.output);
+    REQUIRE(converted.exitCode == 0);
+    const ProcessResult rendered =
+        runNori({(dir.path() / "out/ours.xml").string(), "--no-progress"});
+    INFO(rendered.output);
+    REQUIRE(rendered.exitCode == 0);
+    CHECK(identicalImages(images[0], readImageFile((dir.path() / "out/ours.exr").string()).pixels));
+}
+
+TEST_CASE("A Mitsuba file is told from ours by its <scene version>", "[mitsuba][import]") {
+    const TempDir dir;
+    CHECK(mitsuba::isMitsubaFile(dir.write("m.xml", mitsubaScene(""))));
+    CHECK_FALSE(mitsuba::isMitsubaFile(dir.write("ours.xml", "<scene>\n</scene>\n")));
+    CHECK_FALSE(mitsuba::isMitsubaFile((dir.path() / "missing.xml").string()));
+}
+
+TEST_CASE("Mitsuba's fovAxis and focalLength become our horizontal fov", "[mitsuba][import]") {
+    // The film is 200 × 100 (aspect 2).
+    const auto fovOf = [](const std::string &sensor) {
+        return mitsubaNumber(importMitsuba(mitsubaScene("", sensor)).xml, "fov");
+    };
+    const double half = radians(20.0);
+    CHECK(fovOf(R"(<float name="fov" value="40"/>)") == Approx(40.0).epsilon(1e-6));
+    const double fromY = degrees(2.0 * std::atan(std::tan(half) * 2.0));
+    CHECK(fovOf(R"(<float name="fov" value="40"/><string name="fovAxis" value="y"/>)") ==
+          Approx(fromY).epsilon(1e-5));
+    // The smaller axis of a wide film is y, the larger x.
+    CHECK(fovOf(R"(<float name="fov" value="40"/><string name="fovAxis" value="smaller"/>)") ==
+          Approx(fromY).epsilon(1e-5));
+    CHECK(fovOf(R"(<float name="fov" value="40"/><string name="fovAxis" value="larger"/>)") ==
+          Approx(40.0).epsilon(1e-6));
+    // The diagonal spans tan(20°) across sqrt(1 + 1/4) of the width's half.
+    const double fromDiagonal =
+        degrees(2.0 * std::atan(std::tan(half) / std::sqrt(1.0 + 1.0 / 4.0)));
+    CHECK(fovOf(R"(<float name="fov" value="40"/><string name="fovAxis" value="diagonal"/>)") ==
+          Approx(fromDiagonal).epsilon(1e-5));
+    // 35 mm film: a diagonal of sqrt(36² + 24²) = 43.27 mm over the focal length.
+    const double diagonal = std::sqrt(36.0 * 36.0 + 24.0 * 24.0);
+    const double fromFocal =
+        degrees(2.0 * std::atan(diagonal / (2.0 * 28.0) / std::sqrt(1.0 + 1.0 / 4.0)));
+    CHECK(fovOf(R"(<string name="focalLength" value="28mm"/>)") == Approx(fromFocal).epsilon(1e-5));
+    CHECK(fovOf("<float name=\"nearClip\" value=\"0.1\"/>") ==
+          Approx(degrees(2.0 * std::atan(diagonal / 100.0 / std::sqrt(1.25)))).epsilon(1e-5));
+    CHECK_THAT(errorOf([] {
+                   importMitsuba(mitsubaScene(
+                       "", R"(<float name="fov" value="40"/><string name="fovAxis" value="z"/>)"));
+               }),
+               Contains("fovAxis must be x, y, diagonal, smaller or larger"));
+}
+
+TEST_CASE("Mitsuba's colours: rgb as given, srgb and hex decoded, spectra integrated",
+          "[mitsuba][import]") {
+    const auto colorOf = [](const std::string &property, const std::string &emitter = "") {
+        const std::string xml =
+            importMitsuba(mitsubaScene(emitter.empty() ? "<bsdf type=\"diffuse\" id=\"b\">" +
+                                                             property + "</bsdf>"
+                                                       : emitter))
+                .xml;
+        return mitsubaColor(xml, emitter.empty() ? "albedo" : "radiance");
+    };
+    const Color3f rgb = colorOf(R"(<rgb name="reflectance" value="0.1 0.2 0.3"/>)");
+    CHECK(rgb.r() == 0.1f);
+    CHECK(rgb.b() == 0.3f);
+    // sRGB: ((c + 0.055)/1.055)^2.4 above 0.04045, c/12.92 below.
+    const Color3f srgb = colorOf(R"(<srgb name="reflectance" value="0.5, 0.02, 1"/>)");
+    CHECK(srgb.r() == Approx(std::pow((0.5 + 0.055) / 1.055, 2.4)).epsilon(1e-6));
+    CHECK(srgb.g() == Approx(0.02 / 12.92).epsilon(1e-6));
+    CHECK(srgb.b() == Approx(1.0).epsilon(1e-6));
+    const Color3f hex = colorOf(R"(<srgb name="reflectance" value="#ff8000"/>)");
+    CHECK(hex.r() == Approx(1.0).epsilon(1e-6));
+    CHECK(hex.g() == Approx(std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4)).epsilon(1e-6));
+    CHECK(hex.b() == 0.0f);
+    // A constant spectrum is that grey; a flat reflectance over the visible range is white.
+    CHECK(colorOf(R"(<spectrum name="reflectance" value="0.25"/>)").g() == 0.25f);
+    const Color3f flat = colorOf(R"(<spectrum name="reflectance" value="360:0.5, 830:0.5"/>)");
+    CHECK(flat.r() == Approx(0.5).margin(2e-3));
+    CHECK(flat.g() == Approx(0.5).margin(2e-3));
+    CHECK(flat.b() == Approx(0.5).margin(2e-3));
+    // A flat illuminant keeps its luminance: Y = 0.2126 R + 0.7152 G + 0.0722 B = 1.
+    const Color3f light = colorOf("", R"(<shape type="sphere"><emitter type="area">
+                <spectrum name="radiance" value="360:1, 830:1"/></emitter></shape>)");
+    CHECK(0.2126f * light.r() + 0.7152f * light.g() + 0.0722f * light.b() ==
+          Approx(1.0).margin(2e-3));
+    CHECK(light.r() > light.b()); // illuminant E is redder than D65, sRGB's white
+    // A blackbody is Planck's law per nanometre: hotter is bluer and brighter.
+    const Color3f warm = colorOf("", R"(<shape type="sphere"><emitter type="area">
+                <blackbody name="radiance" temperature="3000K"/></emitter></shape>)");
+    const Color3f hot = colorOf("", R"(<shape type="sphere"><emitter type="area">
+                <blackbody name="radiance" temperature="6500K"/></emitter></shape>)");
+    CHECK(warm.r() / warm.b() > hot.r() / hot.b());
+    CHECK(hot.g() > warm.g());
+}
+
+TEST_CASE("Mitsuba's depths count path vertices, ours bounces", "[mitsuba][import]") {
+    const auto depthOf = [](int mitsubaDepth) {
+        return int(mitsubaNumber(
+            importMitsuba(mitsubaScene(fmt::format(
+                              R"(<integrator type="path"><integer name="maxDepth" value="{}"/>
+                                 </integrator>)",
+                              mitsubaDepth)))
+                .xml,
+            "maxDepth"));
+    };
+    CHECK(depthOf(-1) == -1);
+    CHECK(depthOf(1) == 0); // only the lights seen
+    CHECK(depthOf(2) == 1); // direct illumination
+    CHECK(depthOf(10) == 9);
+    // Without an integrator, path tracing (Mitsuba's default), and 4 samples a pixel.
+    const std::string xml = importMitsuba(mitsubaScene("")).xml;
+    CHECK_THAT(xml, Contains("<integrator type=\"path_mis\""));
+    CHECK(mitsubaNumber(xml, "sampleCount") == 4);
+}
+
+TEST_CASE("Mitsuba's variables, includes and references", "[mitsuba][import]") {
+    const TempDir dir;
+    dir.write("part.xml", R"(<scene version="0.6.0">
+        <bsdf type="diffuse" id="grey"><rgb name="reflectance" value="$albedo"/></bsdf>
+    </scene>)");
+    const std::string main =
+        dir.write("main.xml", mitsubaScene(R"(<default name="albedo" value="0.3"/>
+            <include filename="part.xml"/>
+            <shape type="sphere"><ref id="grey"/></shape>)"));
+    mitsuba::ConvertOptions options;
+    const std::string withDefault = mitsuba::convertFile(main, options).xml;
+    CHECK(mitsubaColor(withDefault, "albedo").g() == 0.3f);
+    CHECK_THAT(withDefault, Contains("<ref id=\"grey\""));
+    options.defines["albedo"] = "0.7";
+    CHECK(mitsubaColor(mitsuba::convertFile(main, options).xml, "albedo").g() == 0.7f);
+    // An undefined variable, a missing include and a reference to nothing are located.
+    CHECK_THAT(errorOf([] {
+                   importMitsuba(mitsubaScene(
+                       R"(<bsdf type="diffuse"><float name="alpha" value="$missing"/></bsdf>)"));
+               }),
+               Contains("test.xml:") && Contains("$missing is not defined"));
+    CHECK_THAT(errorOf([] {
+                   importMitsuba(
+                       mitsubaScene(R"(<shape type="sphere"><ref id="nothing"/></shape>)"));
+               }),
+               Contains("test.xml:") && Contains("no object has that id"));
+}
+
+TEST_CASE("Mitsuba files with mistakes are located errors with suggestions", "[mitsuba][import]") {
+    CHECK_THAT(errorOf([] { importMitsuba(mitsubaScene(R"(<bsdf type="roughplastc"/>)")); }),
+               Contains("test.xml:8:5") && Contains("unknown bsdf 'roughplastc'") &&
+                   Contains("roughplastic"));
+    CHECK_THAT(errorOf([] {
+                   importMitsuba(mitsubaScene(
+                       R"(<bsdf type="plastic"><float name="intIRO" value="1.5"/></bsdf>)"));
+               }),
+               Contains("test.xml:8:26") && Contains("bsdf 'plastic' has no parameter 'intIRO'") &&
+                   Contains("intIOR"));
+    CHECK_THAT(errorOf([] { importMitsuba("<scene version=\"0.6.0\"><shape type=\"sphere\">"); }),
+               Contains("test.xml:1:") && Contains("malformed XML"));
+    CHECK_THAT(errorOf([] {
+                   importMitsuba(
+                       "<scene version=\"0.6.0\"><sensor type=\"orthographic\"/></scene>");
+               }),
+               Contains("the 'orthographic' sensor is not supported"));
+    // A known plugin we do not have: a warning naming its stand-in.
+    const mitsuba::Conversion hair =
+        importMitsuba(mitsubaScene(R"(<bsdf type="phong"><float name="exponent" value="98"/>
+                                      </bsdf><shape type="hair"/>)"));
+    REQUIRE(hair.warnings.size() == 2);
+    CHECK_THAT(hair.warnings[0], Contains("phong is approximated by roughplastic"));
+    CHECK_THAT(hair.warnings[1], Contains("'hair' shape is not supported: left out"));
+}
+
+TEST_CASE("A mirrored Mitsuba rectangle faces its transformed normal", "[mitsuba][import]") {
+    // Mitsuba's rectangle faces (0, 0, 1) transformed as a normal; ours faces its winding,
+    // which a mirror turns over: the importer turns it back (staircase2's door light).
+    const auto flipped = [](const std::string &scale) {
+        return importMitsuba(mitsubaScene(fmt::format(
+                                 R"(<shape type="rectangle"><transform name="toWorld">
+                                    <scale {}/></transform></shape>)",
+                                 scale)))
+                   .xml.find("flipNormals") != std::string::npos;
+    };
+    CHECK_FALSE(flipped(R"(value="2")"));
+    CHECK(flipped(R"(x="-1")"));
+    CHECK_FALSE(flipped(R"(x="-1" y="-1")"));
+}
+
+TEST_CASE("Mitsuba 3's names are Mitsuba 0.6's in snake_case", "[mitsuba][import]") {
+    const std::string xml = importMitsuba(mitsubaScene(R"(<bsdf type="roughdielectric">
+                <float name="int_ior" value="1.33"/><float name="alpha_u" value="0.1"/>
+                <float name="alpha_v" value="0.3"/></bsdf>)",
+                                                       R"(<float name="fov" value="40"/>
+                <string name="fov_axis" value="x"/>)",
+                                                       "3.0.0"))
+                                .xml;
+    CHECK(mitsubaNumber(xml, "intIOR") == Approx(1.33));
+    CHECK(mitsubaNumber(xml, "alphaU") == Approx(0.1));
+    CHECK(mitsubaNumber(xml, "alphaV") == Approx(0.3));
+    // In a 0.6 file the other spelling is read with a warning, as Mitsuba warns of it.
+    const mitsuba::Conversion mixed = importMitsuba(
+        mitsubaScene(R"(<bsdf type="dielectric"><float name="int_ior" value="1.33"/></bsdf>)"));
+    CHECK(mitsubaNumber(mixed.xml, "intIOR") == Approx(1.33));
+    REQUIRE(mixed.warnings.size() == 1);
+    CHECK_THAT(mixed.warnings[0], Contains("'int_ior' is the spelling of another Mitsuba version"));
+    // A name of neither dialect is an error.
+    CHECK_THAT(errorOf([] {
+                   importMitsuba(mitsubaScene(
+                       R"(<bsdf type="dielectric"><float name="int_iro" value="1.33"/></bsdf>)"));
+               }),
+               Contains("no parameter 'int_iro'") && Contains("intIOR"));
+}
