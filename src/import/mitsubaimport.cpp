@@ -443,7 +443,7 @@ Color3f hexColor(const std::string &text, const std::string &location) {
     Color3f color;
     for (int i = 0; i < 3; ++i)
         color[i] =
-            srgbToLinear(float(std::stoi(digits.substr(size_t(2 * i), 2), nullptr, 16)) / 255.0f);
+            srgbToLinear(float(std::stoi(digits.substr(2 * size_t(i), 2), nullptr, 16)) / 255.0f);
     return color;
 }
 
@@ -616,7 +616,7 @@ TransformOps transformOf(const Value &value) {
             const int n = numbers.size() == 16 ? 4 : 3;
             for (int row = 0; row < n; ++row)
                 for (int column = 0; column < n; ++column)
-                    step(row, column) = numbers[size_t(row * n + column)];
+                    step(row, column) = numbers[size_t(row) * size_t(n) + size_t(column)];
             std::string text;
             for (int row = 0; row < 4; ++row)
                 for (int column = 0; column < 4; ++column)
