@@ -4,6 +4,8 @@
 #include "recorder.h"
 #include "testutil.h"
 
+#include <nori/plugindoc.h>
+
 #include <catch2/catch.hpp>
 
 using namespace nori;
@@ -43,11 +45,41 @@ TEST_CASE("Factory rejects a name registered twice", "[factory]") {
     // Within a kind only: the `constant` texture and the `constant` emitter are two plugins.
     const auto kinds = NoriObjectFactory::kindsOf("constant");
     CHECK(kinds.size() == 2);
-    // At static-initialisation time the duplicate is remembered instead of thrown.
-    CHECK_FALSE(
-        NoriObjectFactory::registerStatic("recorder", NoriObject::ETest, constructor, __FILE__));
+    // At static-initialisation time the second registration is kept aside, and
+    // checkRegistry() reports it (two files that are not ours: neither replaces the other).
+    NoriObjectFactory::registerStatic("recorder", NoriObject::ETest, constructor, __FILE__);
     CHECK_THAT(errorOf([] { NoriObjectFactory::checkRegistry(); }),
                Contains("'recorder' is registered twice"));
+}
+
+TEST_CASE("A user's plugin of one of our names replaces ours, until --builtin", "[factory]") {
+    // As a course's mirror.cpp would at start-up: a file that is not ours registers `mirror`.
+    REQUIRE(isShippedPlugin(NoriObject::EBSDF, "mirror"));
+    NoriObjectFactory::registerStatic(
+        "mirror", NoriObject::EBSDF,
+        [](const PropertyList &props) -> std::shared_ptr<NoriObject> {
+            return std::make_shared<nori::testing::Recorder>(props);
+        },
+        "/course/mirror.cpp");
+    CHECK_NOTHROW(NoriObjectFactory::checkRegistry());
+    const auto replacements = NoriObjectFactory::replacements();
+    REQUIRE(replacements.size() == 1);
+    CHECK(replacements[0].name == "mirror");
+    CHECK(replacements[0].yourFile == "/course/mirror.cpp");
+    CHECK_THAT(replacements[0].ourFile, Contains("plugins/builtin/bsdfs/mirror.cpp"));
+    // The name makes the user's plugin; "builtin:mirror" ours.
+    CHECK(NoriObjectFactory::createInstance("mirror", NoriObject::EBSDF, {})->getClassType() ==
+          NoriObject::ETest);
+    CHECK(NoriObjectFactory::createInstance("builtin:mirror", NoriObject::EBSDF, {})
+              ->getClassType() == NoriObject::EBSDF);
+    CHECK_THAT(errorOf([] { NoriObjectFactory::useBuiltin("diffuse"); }),
+               Contains("no plugin of yours replaces one of ours called 'diffuse'") &&
+                   Contains("yours replace: mirror"));
+    // --builtin mirror: ours again, and nothing is replaced any more.
+    NoriObjectFactory::useBuiltin("mirror");
+    CHECK(NoriObjectFactory::replacements().empty());
+    CHECK(NoriObjectFactory::createInstance("mirror", NoriObject::EBSDF, {})->getClassType() ==
+          NoriObject::EBSDF);
 }
 
 TEST_CASE("Factory creates by name and checks the kind and the properties", "[factory]") {

@@ -145,16 +145,19 @@ TEST_CASE("Every light's shadowRay leaves the surface its reference point lies o
     // away) and leave curved objects black. From points of a unit sphere toward each
     // kind of light, nothing but the open sky lies in between.
     const std::vector<std::string> lights = {
-        R"(<emitter type="point"><point name="position" value="0, 3, 0"/></emitter>)",
+        R"(<emitter type="point"><point name="position" value="0, 3, 0"/>
+            <color name="intensity" value="1"/></emitter>)",
         fmt::format(kSpot, 0.0f, 0.0f, 10),
         R"(<emitter type="directional"><vector name="direction" value="0, -1, 0"/></emitter>)",
         R"(<emitter type="constant"/>)",
         R"(<mesh type="rectangle"><transform name="toWorld"><rotate axis="1, 0, 0" angle="90"/>
-            <translate value="0, 3, 0"/></transform><emitter type="area"/></mesh>)"};
+            <translate value="0, 3, 0"/></transform>
+            <emitter type="area"><color name="radiance" value="1"/></emitter></mesh>)"};
     for (const std::string &light : lights) {
         CAPTURE(light);
         const auto scene = loadScene(
-            R"(<scene><camera type="perspective"><integer name="width" value="4"/>
+            R"(<scene><integrator type="path_mis"/>
+               <camera type="perspective"><integer name="width" value="4"/>
                <integer name="height" value="4"/></camera>
                <mesh type="sphere"/>)" +
             light + "</scene>");

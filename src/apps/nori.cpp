@@ -629,6 +629,7 @@ int convertCommand(const Options &options) {
     if (options.convertInput.empty())
         throw NoriException("convert: no scene given (nori convert SCENE.pbrt|SCENE.xml -o "
                             "OUT.xml)");
+    requireRegularFile(options.convertInput, "scene");
     const bool isMitsuba =
         options.format != "nori" && readsAsMitsuba(options.convertInput, options.format);
     if (!isMitsuba && !pbrt::isPbrtFile(options.convertInput))

@@ -15,6 +15,7 @@
 #include <pugixml.hpp>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -1678,6 +1679,21 @@ private:
 
     // ---- Textures ----
 
+    /// A texture's (uscale, vscale, uoffset, voffset): Mitsuba 0.6's parameters, or the
+    /// scale and offset of Mitsuba 3's to_uv.
+    std::array<float, 4> uvMap(const Element &e) {
+        std::array<float, 4> map = {getFloat(e, "uscale", 1.0f), getFloat(e, "vscale", 1.0f),
+                                    getFloat(e, "uoffset", 0.0f), getFloat(e, "voffset", 0.0f)};
+        if (const auto toUV = getTransform(e, "toUv")) {
+            const Eigen::Matrix4d &m = toUV->matrix;
+            if (m(0, 1) != 0.0 || m(1, 0) != 0.0)
+                warn(e.location, "to_uv",
+                     "a rotated to_uv is not supported: its scale and offset are used");
+            map = {float(m(0, 0)), float(m(1, 1)), float(m(0, 3)), float(m(1, 3))};
+        }
+        return map;
+    }
+
     void texture(const Element &e, pugi::xml_node parent, const std::string &name,
                  bool data = false) {
         textureNode(e, parent, name, data);
@@ -1724,19 +1740,7 @@ private:
             // Mitsuba looks up uv·(uscale, vscale) + (uoffset, voffset) with v = 0 at the
             // image's top row, ours with v = 0 at the bottom (the shapes' uv being the same:
             // see obj): v runs the other way, from 1 − voffset.
-            float uscale = getFloat(e, "uscale", 1.0f), vscale = getFloat(e, "vscale", 1.0f);
-            float uoffset = getFloat(e, "uoffset", 0.0f), voffset = getFloat(e, "voffset", 0.0f);
-            if (const auto toUV = getTransform(e, "toUv")) {
-                const Eigen::Matrix4d &m = toUV->matrix;
-                if (m(0, 1) != 0.0 || m(1, 0) != 0.0)
-                    warn(e.location, "to_uv",
-                         "a rotated to_uv is not supported: its scale and "
-                         "offset are used");
-                uscale = float(m(0, 0));
-                vscale = float(m(1, 1));
-                uoffset = float(m(0, 3));
-                voffset = float(m(1, 3));
-            }
+            const auto [uscale, vscale, uoffset, voffset] = uvMap(e);
             child(out, "vector", "uvScale", fmt::format("{}, {}", number(uscale), number(-vscale)));
             child(out, "vector", "uvOffset",
                   fmt::format("{}, {}", number(uoffset), number(1.0f - voffset)));
@@ -1747,19 +1751,7 @@ private:
             // Cells of ½ in (u·uscale + uoffset, v·vscale + voffset), even ones color0.
             out = addObject(parent, "texture", "checkerboard_color", ourName);
             identify(e, out);
-            float uscale = getFloat(e, "uscale", 1.0f), vscale = getFloat(e, "vscale", 1.0f);
-            float uoffset = getFloat(e, "uoffset", 0.0f), voffset = getFloat(e, "voffset", 0.0f);
-            if (const auto toUV = getTransform(e, "toUv")) {
-                const Eigen::Matrix4d &m = toUV->matrix;
-                if (m(0, 1) != 0.0 || m(1, 0) != 0.0)
-                    warn(e.location, "to_uv",
-                         "a rotated to_uv is not supported: its scale and "
-                         "offset are used");
-                uscale = float(m(0, 0));
-                vscale = float(m(1, 1));
-                uoffset = float(m(0, 3));
-                voffset = float(m(1, 3));
-            }
+            const auto [uscale, vscale, uoffset, voffset] = uvMap(e);
             child(out, "vector", "scale",
                   fmt::format("{}, {}", number(0.5f / uscale), number(0.5f / vscale)));
             child(out, "point", "delta",

@@ -17,6 +17,7 @@ must be installed: a missing one fails the test, it never skips. Run by ctest as
 """
 import json
 import os
+import shutil
 import socket
 import struct
 import subprocess
@@ -310,6 +311,8 @@ def check_test_file():
     test_file = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scenes",
                              "tests", "chi2test-diffuse.xml")
     pictures = os.path.join(WORKDIR, "pictures")
+    # Pictures of an earlier run (another build's names) are not this run's.
+    shutil.rmtree(pictures, ignore_errors=True)
     nori, url, log = start_nori("--preview-wait", str(port), "--pictures", pictures,
                                 test_file, name="test-file")
     deadline = time.time() + 120
