@@ -853,30 +853,30 @@ private:
         else
             addFloat(out, ours, floatOf(*value));
     }
+    /// Writes a texture given to a parameter (nested, or by <ref>); false for a constant.
+    bool copyTexture(const Value &value, pugi::xml_node out, const char *ours) {
+        if (value.kind == Value::Kind::Object)
+            texture(*value.object, out, ours);
+        else if (value.kind == Value::Kind::Ref)
+            addRef(out, value.refId, ours);
+        else
+            return false;
+        return true;
+    }
     /// A colour or texture parameter: <color>, or the texture (nested or by <ref>).
     void copyColor(const Element &e, const char *name, pugi::xml_node out, const char *ours,
                    Intent intent = Intent::Reflectance) {
         const Value *value = e.find(name);
-        if (!value)
-            return;
-        if (value->kind == Value::Kind::Object)
-            texture(*value->object, out, ours);
-        else if (value->kind == Value::Kind::Ref)
-            addRef(out, value->refId, ours);
-        else
+        if (value && !copyTexture(*value, out, ours))
             addColor(out, ours, colorOf(*value, intent));
     }
     /// A float or texture parameter.
     void copyFloatOrTexture(const Element &e, const char *name, pugi::xml_node out,
                             const char *ours) {
         const Value *value = e.find(name);
-        if (!value)
+        if (!value || copyTexture(*value, out, ours))
             return;
-        if (value->kind == Value::Kind::Object)
-            texture(*value->object, out, ours);
-        else if (value->kind == Value::Kind::Ref)
-            addRef(out, value->refId, ours);
-        else if (value->kind == Value::Kind::Color)
+        if (value->kind == Value::Kind::Color)
             addColor(out, ours, colorOf(*value, Intent::Reflectance));
         else
             addFloat(out, ours, floatOf(*value));
