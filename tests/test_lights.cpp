@@ -113,13 +113,16 @@ TEST_CASE("Two lights of very unequal power add up for every integrator that see
 }
 
 TEST_CASE("A spot light's power is the integral of its intensity over the sphere", "[lights]") {
-    for (const auto &[cutoff, beam] :
-         {std::pair{30.0f, 20.0f}, std::pair{60.0f, 0.0f}, std::pair{90.0f, 90.0f}}) {
-        CAPTURE(cutoff, beam);
+    for (const auto &[cutoff, beam, falloff] :
+         {std::tuple{30.0f, 20.0f, "smoothstep"}, std::tuple{60.0f, 0.0f, "smoothstep"},
+          std::tuple{90.0f, 90.0f, "smoothstep"}, std::tuple{30.0f, 20.0f, "linear"},
+          std::tuple{60.0f, 0.0f, "linear"}, std::tuple{90.0f, 90.0f, "linear"}}) {
+        CAPTURE(cutoff, beam, falloff);
         auto spot = std::dynamic_pointer_cast<Emitter>(loadFromXMLString(fmt::format(
             R"(<emitter type="spot"><color name="intensity" value="3"/>
-                <float name="cutoffAngle" value="{}"/> <float name="beamWidth" value="{}"/></emitter>)",
-            cutoff, beam)));
+                <float name="cutoffAngle" value="{}"/> <float name="beamWidth" value="{}"/>
+                <string name="falloff" value="{}"/></emitter>)",
+            cutoff, beam, falloff)));
         REQUIRE(spot);
         // ∫ I(ω) dω by the midpoint rule in θ (the light is symmetric about its axis),
         // reading I(θ) from the light itself: the irradiance at distance 1.

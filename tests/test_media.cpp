@@ -342,6 +342,31 @@ TEST_CASE("The cloud reads the same from .vol and NanoVDB, and its majorant grid
     CHECK(sum / 512.0 < 0.6 * majorants.maximum());
 }
 
+TEST_CASE("Grid values at voxel centres or at lattice corners (Mitsuba 0.6)", "[media]") {
+    // Along x, values 0, 1, 2 over the unit cube.
+    VolumeGrid grid = makeGrid(3, [](int x, int, int) { return float(x); });
+    const auto at = [&](float u) { return grid.lookup(Point3f(u, 0.5f, 0.5f)); };
+    // Centres: value i at (i + ½)/3, clamped to the edge values beyond the outer centres.
+    CHECK(at(0.0f) == 0.0f);
+    CHECK(at(1.0f / 6.0f) == 0.0f);
+    CHECK(at(0.5f) == Approx(1.0f));
+    CHECK(at(2.0f / 3.0f) == Approx(1.5f));
+    CHECK(at(1.0f) == 2.0f);
+    CHECK(grid.maximumOver(Point3f(0.0f, 0.0f, 0.0f), Point3f(0.1f, 1.0f, 1.0f)) == 0.0f);
+    // Corners: value i at i/2, so linear across the whole cube.
+    grid.setLayout(VoxelLayout::Corners);
+    for (const float u : {0.0f, 0.1f, 0.25f, 0.5f, 0.8f, 1.0f})
+        CHECK(at(u) == Approx(2.0f * u));
+    CHECK(grid.maximumOver(Point3f(0.0f, 0.0f, 0.0f), Point3f(0.1f, 1.0f, 1.0f)) == 1.0f);
+    CHECK(grid.maximumOver(Point3f(0.6f, 0.0f, 0.0f), Point3f(1.0f, 1.0f, 1.0f)) == 2.0f);
+    // Outside the cube, nothing.
+    CHECK(grid.lookup(Point3f(1.01f, 0.5f, 0.5f)) == 0.0f);
+    // Corners need two values along every axis.
+    VolumeGrid single = makeGrid(1, [](int, int, int) { return 1.0f; });
+    CHECK_THAT(errorOf([&] { single.setLayout(VoxelLayout::Corners); }),
+               Catch::Contains("at least 2"));
+}
+
 TEST_CASE("Ratio tracking has a lower variance than delta tracking through the cloud", "[media]") {
     const auto cloud = loadMedium(R"(<medium type="heterogeneous">
         <string name="filename" value="cloud.vol"/><float name="scale" value="3"/></medium>)",

@@ -120,6 +120,9 @@ TEST_CASE("Photons carry each light's power", "[photons][lights]") {
         R"(<emitter type="point"><point name="position" value="1, 2, 3"/>
             <color name="power" value="10, 20, 30"/></emitter>)",
         kSpot,
+        R"(<emitter type="spot"><point name="target" value="1, 0, 0"/>
+            <color name="intensity" value="5, 4, 3"/> <float name="cutoffAngle" value="30"/>
+            <float name="beamWidth" value="10"/> <string name="falloff" value="linear"/></emitter>)",
         R"(<emitter type="directional"><vector name="direction" value="-1, -2, -0.5"/>
             <color name="irradiance" value="3, 2, 1"/></emitter>)",
         R"(<emitter type="constant"><color name="radiance" value="0.5, 1, 2"/></emitter>)",
@@ -186,6 +189,31 @@ TEST_CASE("Photon directions follow each light's emission distribution", "[photo
                         const double t =
                             std::clamp((d.x() - cosCutoff) / (cosBeam - cosCutoff), 0.0, 1.0);
                         return t / solidAngle;
+                    }).passed);
+    }
+    SECTION("spot with Mitsuba's falloff, linear in the angle") {
+        const auto emitter = loadEmitter(R"(<emitter type="spot">
+            <point name="target" value="1, 0, 0"/> <color name="intensity" value="5, 4, 3"/>
+            <float name="cutoffAngle" value="30"/> <float name="beamWidth" value="10"/>
+            <string name="falloff" value="linear"/></emitter>)");
+        const double beam = degToRad(10.0f), cutoff = degToRad(30.0f);
+        // ∫ falloff dω = 2π [1 + (sin β − sin c)/(c − β)].
+        const double solidAngle =
+            2.0 * kPi * (1.0 + (std::sin(beam) - std::sin(cutoff)) / (cutoff - beam));
+        const auto linear = [=](const Vector3f &d) {
+            const double theta = std::acos(std::clamp(double(d.x()), -1.0, 1.0));
+            return std::clamp((cutoff - theta) / (cutoff - beam), 0.0, 1.0) / solidAngle;
+        };
+        const ChiSquareResult result = photonDirectionTest(*emitter, linear);
+        INFO(result.message);
+        CHECK(result.passed);
+        // Negative control: pbrt's smoothstep in cos θ over the same ring.
+        const double cosBeam = std::cos(beam), cosCutoff = std::cos(cutoff);
+        const double smoothAngle = 2.0 * kPi * ((1.0 - cosBeam) + 0.5 * (cosBeam - cosCutoff));
+        CHECK_FALSE(photonDirectionTest(*emitter, [=](const Vector3f &d) {
+                        const double t =
+                            std::clamp((d.x() - cosCutoff) / (cosBeam - cosCutoff), 0.0, 1.0);
+                        return t * t * (3.0 - 2.0 * t) / smoothAngle;
                     }).passed);
     }
     SECTION("envmap: its radiance's luminance, texel by texel") {

@@ -63,3 +63,41 @@ TEST_CASE("Sphere uv: u = ½ + φ/2π (EPFL) or φ/2π (ETH), v = 1 − θ/π", 
         CHECK(its.dpdu.cross(its.dpdv).dot(n) >= 0.0f);
     }
 }
+
+TEST_CASE("Sphere uv as Mitsuba defines them: u = φ/2π in [0, 1), v = θ/π", "[shape][mitsuba]") {
+    const Point3f center(0.5f, -1.0f, 2.0f);
+    const float radius = 1.5f;
+    auto sphere = std::dynamic_pointer_cast<Shape>(loadFromXMLString(
+        R"(<mesh type="sphere"><point name="center" value="0.5, -1, 2"/>
+           <float name="radius" value="1.5"/><string name="convention" value="mitsuba"/></mesh>)"));
+    REQUIRE(sphere);
+    PCG32 random(5, 6);
+    for (int i = 0; i < 200; ++i) {
+        const float u1 = random.nextFloat();
+        const Vector3f n = Warp::squareToUniformSphere(Point2f(u1, random.nextFloat()));
+        const Point3f target = center + radius * n;
+        const Ray3f ray(target + 3.0f * n, Vector3f(-n));
+        Intersection its;
+        Point2f coords;
+        REQUIRE(sphere->rayIntersect(0, ray, its.t, coords));
+        sphere->setHitInformation(0, ray, coords, its);
+        INFO("n = " << n.transpose());
+        double phi = std::atan2(n.y(), n.x());
+        if (phi < 0.0)
+            phi += 2 * kPiDouble;
+        CHECK(its.uv.x() == Approx(phi / (2 * kPiDouble)).margin(1e-5));
+        CHECK(its.uv.y() == Approx(std::acos(n.z()) / kPiDouble).margin(1e-4));
+        // dp/du and dp/dv of p(u, v) = c + r (sin θ cos φ, sin θ sin φ, cos θ), θ = πv.
+        auto position = [&](double u, double v) -> Eigen::Vector3d {
+            const double p = 2 * kPiDouble * u, t = kPiDouble * v;
+            return Eigen::Vector3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p),
+                                   std::cos(t)) *
+                   radius;
+        };
+        const double h = 1e-4, u = its.uv.x(), v = its.uv.y();
+        const Eigen::Vector3d dpdu = (position(u + h, v) - position(u - h, v)) / (2 * h);
+        const Eigen::Vector3d dpdv = (position(u, v + h) - position(u, v - h)) / (2 * h);
+        CHECK((its.dpdu.cast<double>() - dpdu).norm() < 1e-3 * radius * 2 * kPiDouble);
+        CHECK((its.dpdv.cast<double>() - dpdv).norm() < 1e-3 * radius * kPiDouble);
+    }
+}

@@ -1,9 +1,11 @@
 // A dense voxel grid for heterogeneous media (density, albedo), read from Mitsuba's
 // binary .vol format or from a NanoVDB file, and the coarse majorant grid that bounds it.
 //
-// Values sit at voxel centres (Mitsuba 3's convention): along x, voxel i covers the unit
-// coordinate interval [i/nx, (i+1)/nx] and its value holds at (i + 1/2)/nx. Lookups are
-// trilinear between centres, clamped to the edge inside the unit cube, zero outside it.
+// Values sit at voxel centres by default (Mitsuba 3's, pbrt-v4's and OpenVDB's convention):
+// along x, voxel i covers the unit coordinate interval [i/nx, (i+1)/nx] and its value holds
+// at (i + 1/2)/nx. Mitsuba 0.4-0.6's gridvolume puts value i at the lattice point i/(nx - 1)
+// instead (VoxelLayout::Corners). Lookups are trilinear between those points, clamped to the
+// edge inside the unit cube, zero outside it.
 #pragma once
 
 #include <nori/color.h>
@@ -13,6 +15,9 @@
 #include <vector>
 
 namespace nori {
+
+/// Where a grid's values hold in the unit cube (see the top of this file).
+enum class VoxelLayout { Centres, Corners };
 
 class VolumeGrid {
 public:
@@ -47,13 +52,18 @@ public:
     /// grid named `gridName`; zero voxels stay inactive.
     void writeNanoVDB(const std::string &filename, const std::string &gridName) const;
 
+    /// Places the values at voxel centres (the default) or at lattice corners; Corners
+    /// needs at least two values along every axis.
+    void setLayout(VoxelLayout layout);
+    VoxelLayout layout() const { return m_layout; }
+
     /// The trilinear value at unit-cube coordinates u: channel 0, or all three channels
     /// (a one-channel grid gives grey).
     float lookup(const Point3f &u) const;
     Color3f lookupColor(const Point3f &u) const;
 
     /// The largest value (channel 0) any lookup returns in the box of unit coordinates
-    /// [lower, upper]: the maximum over the voxels whose centres the trilinear stencil of
+    /// [lower, upper]: the maximum over the voxels whose values the trilinear stencil of
     /// a point in the box can reach.
     float maximumOver(const Point3f &lower, const Point3f &upper) const;
 
@@ -70,7 +80,11 @@ public:
     }
 
 private:
+    /// Unit-cube coordinates as lattice coordinates: value (i, j, k) holds at (i, j, k).
+    Vector3f latticeCoordinates(const Point3f &u) const;
+
     Vector3i m_resolution = Vector3i::Zero();
+    VoxelLayout m_layout = VoxelLayout::Centres;
     int m_channels = 1;
     std::vector<float> m_values;
     Transform m_unitToObject;

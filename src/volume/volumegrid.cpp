@@ -394,11 +394,25 @@ void VolumeGrid::writeNanoVDB(const std::string &filename, const std::string &gr
     }
 }
 
+void VolumeGrid::setLayout(VoxelLayout layout) {
+    if (layout == VoxelLayout::Corners && m_resolution.minCoeff() < 2)
+        throw NoriException("grid '{}' has {}x{}x{} values; values at lattice corners need at "
+                            "least 2 along every axis",
+                            m_name, m_resolution.x(), m_resolution.y(), m_resolution.z());
+    m_layout = layout;
+}
+
+Vector3f VolumeGrid::latticeCoordinates(const Point3f &u) const {
+    if (m_layout == VoxelLayout::Corners)
+        return u.cwiseProduct((m_resolution - Vector3i::Ones()).cast<float>());
+    return u.cwiseProduct(m_resolution.cast<float>()) - Vector3f::Constant(0.5f);
+}
+
 float VolumeGrid::lookup(const Point3f &u) const {
     if (!((u.array() >= 0.0f).all() && (u.array() <= 1.0f).all()))
         return 0.0f;
-    // Trilinear interpolation between the eight nearest voxel centres, clamped at the faces.
-    const Vector3f x = u.cwiseProduct(m_resolution.cast<float>()) - Vector3f::Constant(0.5f);
+    // Trilinear interpolation between the eight nearest values, clamped at the faces.
+    const Vector3f x = latticeCoordinates(u);
     const Vector3f lowerF(x.array().floor().matrix());
     const Vector3f f = x - lowerF;
     const Vector3i lower = lowerF.cast<int>();
@@ -418,7 +432,7 @@ Color3f VolumeGrid::lookupColor(const Point3f &u) const {
         return Color3f(lookup(u));
     if (!((u.array() >= 0.0f).all() && (u.array() <= 1.0f).all()))
         return Color3f(0.0f);
-    const Vector3f x = u.cwiseProduct(m_resolution.cast<float>()) - Vector3f::Constant(0.5f);
+    const Vector3f x = latticeCoordinates(u);
     const Vector3f lowerF(x.array().floor().matrix());
     const Vector3f f = x - lowerF;
     const Vector3i lower = lowerF.cast<int>();
@@ -437,14 +451,11 @@ Color3f VolumeGrid::lookupColor(const Point3f &u) const {
 }
 
 float VolumeGrid::maximumOver(const Point3f &lower, const Point3f &upper) const {
-    const Vector3f n = m_resolution.cast<float>();
     const Vector3i last = m_resolution - Vector3i::Ones();
-    // A point at voxel coordinate x interpolates the centres floor(x − 1/2) and the next.
-    const Vector3i first =
-        (lower.cwiseProduct(n) - Vector3f::Constant(0.5f)).array().floor().cast<int>().matrix();
+    // A point at lattice coordinate x interpolates the values floor(x) and the next.
+    const Vector3i first = latticeCoordinates(lower).array().floor().cast<int>().matrix();
     const Vector3i end =
-        (upper.cwiseProduct(n) - Vector3f::Constant(0.5f)).array().floor().cast<int>().matrix() +
-        Vector3i::Ones();
+        latticeCoordinates(upper).array().floor().cast<int>().matrix() + Vector3i::Ones();
     const Vector3i from = first.cwiseMax(0).cwiseMin(last), to = end.cwiseMax(0).cwiseMin(last);
     float result = 0.0f;
     for (int z = from.z(); z <= to.z(); ++z)

@@ -1,9 +1,11 @@
 /*
- * spot — a point light that shines into a cone: full intensity I within beamWidth of
- * its axis, falling off smoothly to zero at cutoffAngle, I(θ) = I·smoothstep(cos
- * cutoffAngle, cos beamWidth, cos θ) as pbrt-v4 defines it (PBR 4th ed. §12.1.1). Its
- * power is Φ = 2π I [(1 − cos beamWidth) + (cos beamWidth − cos cutoffAngle)/2] (the
- * smoothstep averages ½ over the ring). A delta light: BSDF-sampled rays never hit it.
+ * spot — a point light that shines into a cone: full intensity I within beamWidth β of
+ * its axis, falling off to zero at cutoffAngle c. By default smoothly, I(θ) =
+ * I·smoothstep(cos c, cos β, cos θ) as pbrt-v4 defines it (PBR 4th ed. §12.1.1), of power
+ * Φ = 2π I [(1 − cos β) + (cos β − cos c)/2] (the smoothstep averages ½ over the ring);
+ * with falloff "linear", I(θ) = I·(c − θ)/(c − β) on the ring as Mitsuba (0.6 and 3)
+ * defines it, of power Φ = 2π I [1 + (sin β − sin c)/(c − β)] (∫ (c − θ) sin θ dθ over
+ * [β, c] is (c − β) cos β + sin β − sin c). A delta light: BSDF-sampled rays never hit it.
  *
  * Parameters:
  *   position     point      (0, 0, 0)  where the light is
@@ -20,6 +22,8 @@
  *                                      the courses' spelling); a value above 1 can only
  *                                      be degrees, and is read as such, with a note
  *   cosFalloffStart  float  —          instead of beamWidth: its cosine (likewise)
+ *   falloff      string     "smoothstep"  across the ring: "smoothstep" in cos θ (pbrt) or
+ *                                      "linear" in θ (Mitsuba)
  *
  *   <emitter type="spot"><point name="position" value="0, 3, 0"/>
  *       <point name="target" value="0, 0, 0"/> <color name="intensity" value="20"/>
@@ -70,6 +74,11 @@ public:
                                 m_cutoffAngle, m_beamWidth);
         m_cosCutoff = std::cos(degToRad(m_cutoffAngle));
         m_cosBeam = std::cos(degToRad(m_beamWidth));
+        const std::string falloffName = props.getString("falloff", "smoothstep");
+        if (falloffName != "smoothstep" && falloffName != "linear")
+            throw NoriException("spot: 'falloff' is \"smoothstep\" or \"linear\", got \"{}\"",
+                                falloffName);
+        m_linear = falloffName == "linear";
         m_intensity = readIntensity(props, "spot", solidAngle());
 
         if (props.has("toWorld")) {
@@ -138,34 +147,54 @@ public:
 
     std::string toString() const override {
         return fmt::format("SpotLight[position=({}, {}, {}), axis=({}, {}, {}), intensity=({}, "
-                           "{}, {}), cutoffAngle={}, beamWidth={}]",
+                           "{}, {}), cutoffAngle={}, beamWidth={}, falloff={}]",
                            m_position.x(), m_position.y(), m_position.z(), m_axis.x(), m_axis.y(),
                            m_axis.z(), m_intensity.r(), m_intensity.g(), m_intensity.b(),
-                           m_cutoffAngle, m_beamWidth);
+                           m_cutoffAngle, m_beamWidth, m_linear ? "linear" : "smoothstep");
     }
 
 private:
-    /// smoothstep(cos cutoff, cos beam, cos θ): 0 outside the cone, 1 inside the beam.
+    /// 0 outside the cone, 1 inside the beam, and across the ring smoothstep(cos c, cos β,
+    /// cos θ) or (c − θ)/(c − β).
     float falloff(float cosTheta) const {
         if (cosTheta >= m_cosBeam)
             return 1.0f;
         if (cosTheta <= m_cosCutoff)
             return 0.0f;
+        if (m_linear) {
+            const float cutoff = degToRad(m_cutoffAngle), beam = degToRad(m_beamWidth);
+            return std::clamp((cutoff - std::acos(cosTheta)) / (cutoff - beam), 0.0f, 1.0f);
+        }
         const float t = (cosTheta - m_cosCutoff) / (m_cosBeam - m_cosCutoff);
         return t * t * (3.0f - 2.0f * t);
     }
 
     /// cos θ with density ∝ falloff(cos θ) on [cos cutoff, 1], from u in [0, 1): the beam
     /// (uniform in cos θ) with probability (1 − cos beam)/(solidAngle/2π), else the ring,
-    /// where t = (cos θ − cos cutoff)/(cos beam − cos cutoff) has density 6t² − 4t³
-    /// (smoothstep normalised) and CDF 2t³ − t⁴, inverted by bisection (monotonic).
+    /// by inverting its CDF by bisection (both CDFs are monotonic). Smoothstep: t = (cos θ −
+    /// cos c)/(cos β − cos c) has density 6t² − 4t³ and CDF 2t³ − t⁴. Linear: θ on [β, c]
+    /// has density ∝ (c − θ) sin θ and unnormalised CDF (c − β) cos β + sin β − (c − θ)
+    /// cos θ − sin θ.
     float sampleFalloff(float u) const {
-        const float beam = 1.0f - m_cosBeam, ring = 0.5f * (m_cosBeam - m_cosCutoff);
+        const float beam = 1.0f - m_cosBeam, ring = ringFraction();
         const float beamProbability = beam / (beam + ring);
         if (u < beamProbability || ring <= 0.0f)
             return 1.0f - std::min(u / beamProbability, 1.0f) * beam;
         const float v = (u - beamProbability) / (1.0f - beamProbability);
         float low = 0.0f, high = 1.0f;
+        if (m_linear) {
+            const double c = degToRad(m_cutoffAngle), b = degToRad(m_beamWidth);
+            const double total = (c - b) * std::cos(b) + std::sin(b) - std::sin(c);
+            for (int i = 0; i < 24; ++i) {
+                const float t = 0.5f * (low + high);
+                const double theta = b + t * (c - b);
+                const double cdf = ((c - b) * std::cos(b) + std::sin(b) -
+                                    (c - theta) * std::cos(theta) - std::sin(theta)) /
+                                   total;
+                (cdf < v ? low : high) = t;
+            }
+            return float(std::cos(b + 0.5 * (low + high) * (c - b)));
+        }
         for (int i = 0; i < 24; ++i) { // 2⁻²⁴: float precision
             const float t = 0.5f * (low + high);
             (2.0f * t * t * t - t * t * t * t < v ? low : high) = t;
@@ -173,16 +202,24 @@ private:
         return m_cosCutoff + 0.5f * (low + high) * (m_cosBeam - m_cosCutoff);
     }
 
-    /// ∫ falloff dω = 2π [(1 − cos beam) + (cos beam − cos cutoff)/2]: smoothstep(t) +
-    /// smoothstep(1 − t) = 1, so the ring contributes half its solid angle.
-    float solidAngle() const {
-        return 2.0f * kPi * ((1.0f - m_cosBeam) + 0.5f * (m_cosBeam - m_cosCutoff));
+    /// ∫ falloff dω over the ring β < θ < c, over 2π: smoothstep(t) + smoothstep(1 − t) =
+    /// 1, so the smoothstep ring gives half its extent, (cos β − cos c)/2; the linear one
+    /// cos β + (sin β − sin c)/(c − β) (the integral above over c − β).
+    float ringFraction() const {
+        if (!m_linear || m_cutoffAngle == m_beamWidth)
+            return 0.5f * (m_cosBeam - m_cosCutoff);
+        const double c = degToRad(m_cutoffAngle), b = degToRad(m_beamWidth);
+        return float(std::cos(b) + (std::sin(b) - std::sin(c)) / (c - b));
     }
+
+    /// ∫ falloff dω: 2π [(1 − cos β) + the ring's fraction].
+    float solidAngle() const { return 2.0f * kPi * ((1.0f - m_cosBeam) + ringFraction()); }
 
     Point3f m_position;
     Vector3f m_axis;
     Color3f m_intensity;
     float m_cutoffAngle, m_beamWidth, m_cosCutoff, m_cosBeam;
+    bool m_linear = false; ///< falloff linear in θ (Mitsuba) rather than smoothstep
 };
 
 NORI_REGISTER_CLASS(SpotLight, "spot");

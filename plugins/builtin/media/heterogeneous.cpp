@@ -12,7 +12,13 @@
  *   albedo              color      0.75        single-scattering albedo σs/σt, in [0, 1]
  *   albedoFilename      string     ""          a grid of albedos (1 or 3 channels) instead
  *   toWorld             transform  identity    places the grid's object space in the world
+ *   fileBounds          boolean    true        the grid spans the bounding box its file states
+ *                                              (false: the unit cube, before toWorld)
  *   majorantResolution  integer    16          majorant cells per axis (1: one global bound)
+ *   valuesAt            string     "centres"   where a grid's values hold: "centres" of its
+ *                                              voxels (Mitsuba 3, pbrt-v4, OpenVDB) or the
+ *                                              "corners" of its bounding box's lattice, value i
+ *                                              at i/(n - 1) (Mitsuba 0.4-0.6's gridvolume)
  *
  * Children: a <phase>, the phase function (isotropic by default).
  *
@@ -47,14 +53,25 @@ public:
             throw NoriException("heterogeneous: 'majorantResolution' must lie in [1, 256], got {}",
                                 m_majorantResolution);
 
+        const std::string valuesAt = props.getString("valuesAt", "centres");
+        if (valuesAt != "centres" && valuesAt != "corners")
+            throw NoriException("heterogeneous: 'valuesAt' is \"centres\" or \"corners\", got "
+                                "\"{}\"",
+                                valuesAt);
+        const VoxelLayout layout =
+            valuesAt == "corners" ? VoxelLayout::Corners : VoxelLayout::Centres;
+
         m_density = VolumeGrid::load(m_filename, m_gridName);
+        m_density.setLayout(layout);
         if (m_density.channels() != 1)
             throw NoriException("heterogeneous: the density grid '{}' has {} channels; it needs 1",
                                 m_filename, m_density.channels());
-        m_worldToUnit = (m_toWorld * m_density.unitToObject()).inverse();
+        const bool fileBounds = props.getBoolean("fileBounds", true);
+        m_worldToUnit = (fileBounds ? m_toWorld * m_density.unitToObject() : m_toWorld).inverse();
         m_majorants = MajorantGrid(m_density, m_majorantResolution, m_scale);
         if (!m_albedoFilename.empty()) {
             m_albedoGrid = VolumeGrid::load(m_albedoFilename);
+            m_albedoGrid.setLayout(layout);
             for (int z = 0; z < m_albedoGrid.resolution().z(); ++z)
                 for (int y = 0; y < m_albedoGrid.resolution().y(); ++y)
                     for (int x = 0; x < m_albedoGrid.resolution().x(); ++x)
@@ -64,7 +81,8 @@ public:
                                                     "at voxel ({}, {}, {}); albedos lie in [0, 1]",
                                                     m_albedoFilename,
                                                     m_albedoGrid.voxel(x, y, z, c), x, y, z);
-            m_worldToAlbedoUnit = (m_toWorld * m_albedoGrid.unitToObject()).inverse();
+            m_worldToAlbedoUnit =
+                (fileBounds ? m_toWorld * m_albedoGrid.unitToObject() : m_toWorld).inverse();
         }
     }
 

@@ -3,6 +3,8 @@
  * φ = atan2(n.y, n.x) around +z and θ = acos(n.z) from +z, v = 1 − θ/π runs from the
  * south pole (v = 0) to the north pole (v = 1), and u = ½ + φ/2π in [0, 1] (Nori 2's
  * and EPFL's convention, the default) or u = φ/2π in [−½, ½] (ETH's 2024 course).
+ * Mitsuba's (0.6 and 3) are u = φ/2π in [0, 1) (φ + 2π where negative) and v = θ/π,
+ * from the north pole down.
  *
  * As an area light it is sampled through the cone of directions it subtends
  * (PBR 4th ed. §6.2.4) when the reference point is outside, by area otherwise.
@@ -15,7 +17,7 @@
  *   uvScale      vector   (1, 1)     uv are scaled by this for textures (a <float>
  *                                    scales both)
  *   convention   string   "epfl"     "epfl": u in [0, 1]; "eth": u in [−½, ½]; see
- *                                    nori --convention
+ *                                    nori --convention; "mitsuba": Mitsuba's uv
  *   normal       texture  —          tangent-space normal map (decoded as 2c − 1)
  *   bump         texture  —          height map for bump mapping (instead of normal)
  *   bumpScale    float    1          the heights are scaled by this
@@ -41,7 +43,10 @@ public:
         m_center = props.getPoint("center", Point3f(0.0f));
         m_radius = props.getFloat("radius", 1.0f);
         m_flipNormals = props.getBoolean("flipNormals", false);
-        m_uOffset = readCourseConvention(props) == CourseConvention::EPFL ? 0.5f : 0.0f;
+        if (props.has("convention") && props.getString("convention") == "mitsuba")
+            m_mitsubaUV = true;
+        else
+            m_uOffset = readCourseConvention(props) == CourseConvention::EPFL ? 0.5f : 0.0f;
         readSurfaceParameters(*this, props);
         if (!(m_radius > 0.0f) || !std::isfinite(m_radius))
             throw NoriException("sphere: 'radius' must be positive, got {}", m_radius);
@@ -101,6 +106,8 @@ public:
         const float sinPhi = std::sin(phi), cosPhi = std::cos(phi);
         its.dpdu = 2.0f * kPi * m_radius * Vector3f(-cosBeta * sinPhi, cosBeta * cosPhi, 0.0f);
         its.dpdv = kPi * m_radius * Vector3f(-sinBeta * cosPhi, -sinBeta * sinPhi, cosBeta);
+        if (m_mitsubaUV) // v = θ/π runs the other way
+            its.dpdv = -its.dpdv;
 
         // Tangent along ∂p/∂u where it exists (not at the poles).
         const Vector3f normal = side * n;
@@ -169,16 +176,21 @@ public:
     std::string toString() const override {
         return fmt::format("Sphere[center=({}, {}, {}), radius={}, flipNormals={}, convention={}]",
                            m_center.x(), m_center.y(), m_center.z(), m_radius, m_flipNormals,
-                           m_uOffset == 0.0f ? "eth" : "epfl");
+                           m_mitsubaUV         ? "mitsuba"
+                           : m_uOffset == 0.0f ? "eth"
+                                               : "epfl");
     }
 
 private:
     /// uv of the unit outward direction n: u = offset + φ/2π, v = 1 − θ/π, computed as
     /// the courses do, so that a pole is hit exactly (v = 1 at n = +z: uvtexture's
     /// |fmod(v, 1)| is then 0, as the course's references expect).
+    /// Mitsuba's: u = φ/2π with φ in [0, 2π), v = θ/π (Mitsuba 0.6 and 3, sphere).
     Point2f uvOf(const Vector3f &n) const {
         const float phi = std::atan2(n.y(), n.x());
         const float theta = std::acos(std::clamp(n.z(), -1.0f, 1.0f));
+        if (m_mitsubaUV)
+            return Point2f((phi < 0.0f ? phi + 2.0f * kPi : phi) * kInvTwoPi, theta * kInvPi);
         return Point2f(m_uOffset + phi * kInvTwoPi, 1.0f - theta * kInvPi);
     }
 
@@ -192,7 +204,8 @@ private:
     Point3f m_center;
     float m_radius;
     bool m_flipNormals;
-    float m_uOffset; ///< ½ (EPFL: u in [0, 1]) or 0 (ETH: u in [−½, ½])
+    float m_uOffset = 0.5f;   ///< ½ (EPFL: u in [0, 1]) or 0 (ETH: u in [−½, ½])
+    bool m_mitsubaUV = false; ///< Mitsuba's uv instead
 };
 
 NORI_REGISTER_CLASS(Sphere, "sphere");
