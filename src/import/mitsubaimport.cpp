@@ -666,7 +666,9 @@ void writeTransform(pugi::xml_node parent, const std::string &name, const Transf
 
 class Converter {
 public:
-    Converter(const ConvertOptions &options) : m_options(options) {}
+    /// `snakeCase`: the file is in Mitsuba 2/3's dialect (its definitions differ in places).
+    Converter(const ConvertOptions &options, bool snakeCase)
+        : m_options(options), m_snakeCase(snakeCase) {}
 
     Conversion convert(const Element &scene, const std::vector<std::string> &variables) {
         m_root = m_document.append_child("scene");
@@ -1314,10 +1316,16 @@ private:
                              .head<3>()
                              .cast<float>();
                 radius *= float(scale);
+                if ((linear / scale - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-5)
+                    warn(e.location, "sphere-rotation",
+                         "a rotated sphere's uv are taken about the world's axes, not its own");
             }
             addPoint(out, "center", center);
             addFloat(out, "radius", radius);
             copyBoolean(e, "flipNormals", out, "flipNormals");
+            // Mitsuba's uv: u = φ/2π in [0, 1), v = θ/π (ours by default: u = ½ + φ/2π,
+            // v = 1 − θ/π), about the sphere's own axes.
+            addString(out, "convention", "mitsuba");
         } else if (type == "cylinder") {
             out = addObject(parent, "mesh", "cylinder");
             if (const auto p0 = getPoint(e, "p0"))
@@ -1418,15 +1426,27 @@ private:
     /// Mitsuba 3's normalmap BSDF: its texture becomes the shape's `normal`, its nested
     /// BSDF the shape's BSDF (ours are on shapes).
     void normalMapOnShape(const Element &e, pugi::xml_node shapeNode, bool byReference) {
+        // Mitsuba 3 names the texture `normalmap`; Mitsuba 0.6 takes it unnamed.
         const Value *map = e.find("normalmap");
+        if (!map && !m_snakeCase) {
+            const std::vector<const Value *> unnamed = e.childrenOf("texture");
+            if (unnamed.size() == 1)
+                map = unnamed.front();
+        }
         if (!map || map->kind == Value::Kind::Color)
-            throw LocatedError(e.location, "normalmap needs a texture called normalmap");
+            throw LocatedError(e.location, m_snakeCase
+                                               ? "normalmap needs a texture called normalmap"
+                                               : "normalmap holds one texture (the normals)");
         if (map->kind == Value::Kind::Object) {
-            pugi::xml_node texture = textureNode(*map->object, shapeNode, "normal");
-            // A normal map holds data, not colour.
-            if (!texture.find_child_by_attribute("name", "gamma") &&
-                !texture.find_child_by_attribute("name", "colorSpace"))
-                addString(texture, "colorSpace", "linear");
+            const Element &texture = *map->object;
+            pugi::xml_node out = textureNode(texture, shapeNode, "normal");
+            // Mitsuba 0.6 refuses a bitmap normal map without a gamma (the normals are data,
+            // gamma 1 nearly always); Mitsuba 3 decodes it as sRGB unless `raw` is set.
+            if (!m_snakeCase && texture.type == "bitmap" && !texture.has("gamma")) {
+                warn(texture.location, "normalmap-gamma",
+                     "normalmap: Mitsuba 0.6 needs the bitmap's gamma; read with gamma 1 (data)");
+                addString(out, "colorSpace", "linear");
+            }
         } else {
             addRef(shapeNode, map->refId, "normal");
         }
@@ -1533,7 +1553,7 @@ private:
             if (textures.front()->kind == Value::Kind::Ref)
                 addRef(out, textures.front()->refId, "height");
             else
-                texture(*textures.front()->object, out, "height", true);
+                texture(*textures.front()->object, out, "height");
             copyFloat(e, "scale", out, "scale");
             nestedBSDFs(e, out, 1, 1);
         } else if (type == "normalmap") {
@@ -1648,7 +1668,13 @@ private:
     void principled(const Element &e, pugi::xml_node parent) {
         pugi::xml_node out = addObject(parent, "bsdf", "disney", e.name);
         identify(e, out);
-        copyColor(e, "baseColor", out, "baseColor");
+        // Mitsuba 3's defaults where ours differ: base_color 0.5, clearcoat_gloss 0.
+        if (e.has("baseColor"))
+            copyColor(e, "baseColor", out, "baseColor");
+        else
+            addColor(out, "baseColor", Color3f(0.5f));
+        if (!e.has("clearcoatGloss"))
+            addFloat(out, "clearcoatGloss", 0.0f);
         for (const auto &[mitsuba, ours] : std::vector<std::pair<const char *, const char *>>{
                  {"roughness", "roughness"},
                  {"metallic", "metallic"},
@@ -1694,13 +1720,13 @@ private:
         return map;
     }
 
-    void texture(const Element &e, pugi::xml_node parent, const std::string &name,
-                 bool data = false) {
-        textureNode(e, parent, name, data);
+    void texture(const Element &e, pugi::xml_node parent, const std::string &name) {
+        textureNode(e, parent, name);
     }
 
-    pugi::xml_node textureNode(const Element &e, pugi::xml_node parent, const std::string &name,
-                               bool data = false) {
+    /// Mitsuba decodes every 8-bit bitmap as sRGB unless told otherwise (0.6: `gamma`, 3:
+    /// `raw`), height and normal maps included.
+    pugi::xml_node textureNode(const Element &e, pugi::xml_node parent, const std::string &name) {
         pugi::xml_node out;
         const std::string ourName = name.empty() ? e.name : name;
         if (e.type == "bitmap") {
@@ -1735,7 +1761,7 @@ private:
             addString(out, "wrap", wrap);
             if (e.has("gamma"))
                 addFloat(out, "gamma", getFloat(e, "gamma", -1.0f));
-            else if (getBoolean(e, "raw", false) || data)
+            else if (getBoolean(e, "raw", false))
                 addString(out, "colorSpace", "linear");
             // Mitsuba looks up uv·(uscale, vscale) + (uoffset, voffset) with v = 0 at the
             // image's top row, ours with v = 0 at the bottom (the shapes' uv being the same:
@@ -1820,9 +1846,7 @@ private:
             const float cutoff = getFloat(e, "cutoffAngle", 20.0f);
             addFloat(out, "cutoffAngle", cutoff);
             addFloat(out, "beamWidth", getFloat(e, "beamWidth", cutoff * 0.75f));
-            warn(e.location, "spot-falloff",
-                 "spot: the falloff between beamWidth and cutoffAngle is our smoothstep in cos θ, "
-                 "not Mitsuba's linear ramp in θ");
+            addString(out, "falloff", "linear");
             if (e.has("texture"))
                 warn(e.location, "spot-texture", "spot: a projected texture is not supported");
             e.find("texture");
@@ -1918,6 +1942,66 @@ private:
 
     // ---- Media and phase functions ----
 
+    /// Where a gridvolume's values lie, as our heterogeneous medium's parameters say it.
+    struct GridPlacement {
+        std::string valuesAt;
+        bool fileBounds = true;
+        TransformOps toWorld;
+    };
+
+    /// A gridvolume onto our heterogeneous medium `out`: its file as `ours`, and for the
+    /// first grid (`density` null) the placement, which a second grid must share.
+    /// Mitsuba 0.6 puts value i at i/(n - 1) of the file's bounding box (or of `min`,
+    /// `max`); Mitsuba 3 at voxel centres of the unit cube, or of the file's box with
+    /// use_grid_bbox (Mitsuba 0.6 and 3, gridvolume).
+    GridPlacement gridVolume(const Element &grid, pugi::xml_node out, const char *ours,
+                             const GridPlacement *density) {
+        copyFilename(grid, "filename", out, ours);
+        GridPlacement placement;
+        placement.valuesAt = m_snakeCase ? "centres" : "corners";
+        placement.toWorld = getTransform(grid, "toWorld").value_or(TransformOps{});
+        if (m_snakeCase) {
+            placement.fileBounds = getBoolean(grid, "useGridBbox", false);
+            if (getString(grid, "filterType", "trilinear") != "trilinear")
+                warn(grid.location, "gridvolume-filter",
+                     "gridvolume: only trilinear interpolation is supported");
+            if (getString(grid, "wrapMode", "clamp") != "clamp")
+                warn(grid.location, "gridvolume-wrap",
+                     "gridvolume: only the clamp wrap mode is supported (zero outside the grid)");
+            ignore(grid, {"raw", "accel", "maxValue"});
+        } else {
+            const auto lower = getPoint(grid, "min"), upper = getPoint(grid, "max");
+            if (lower.has_value() != upper.has_value())
+                throw LocatedError(grid.location, "gridvolume: give both min and max, or neither");
+            if (lower) {
+                // The unit cube onto [min, max], then toWorld.
+                placement.fileBounds = false;
+                TransformOps box;
+                box.ops.push_back({"scale", {{"value", triple(*upper - *lower)}}});
+                box.ops.push_back({"translate", {{"value", triple(*lower)}}});
+                box.ops.insert(box.ops.end(), placement.toWorld.ops.begin(),
+                               placement.toWorld.ops.end());
+                placement.toWorld = box;
+            }
+            ignore(grid, {"sendData"});
+        }
+        if (density) {
+            if (density->fileBounds != placement.fileBounds ||
+                density->toWorld.ops != placement.toWorld.ops)
+                throw LocatedError(grid.location,
+                                   "heterogeneous: the albedo grid must lie where the density "
+                                   "grid lies (same to_world, bounds)");
+        } else {
+            if (placement.valuesAt != "centres")
+                addString(out, "valuesAt", placement.valuesAt);
+            if (!placement.fileBounds)
+                addBoolean(out, "fileBounds", false);
+            writeTransform(out, "toWorld", placement.toWorld);
+        }
+        finish(grid);
+        return placement;
+    }
+
     void medium(const Element &e, pugi::xml_node parent, const std::string &name = "") {
         pugi::xml_node out;
         const std::string ourName = name.empty() ? e.name : name;
@@ -1934,34 +2018,47 @@ private:
             copyColor(e, "albedo", out, "albedo");
             copyFloat(e, "scale", out, "scale");
         } else if (e.type == "heterogeneous") {
-            out = addObject(parent, "medium", "heterogeneous", ourName);
-            identify(e, out);
-            const Value *density = e.find("density");
-            if (!density || density->kind != Value::Kind::Object ||
-                density->object->type != "gridvolume")
-                throw LocatedError(density ? density->location : e.location,
-                                   "heterogeneous needs a density <volume type=\"gridvolume\">");
-            const Element &grid = *density->object;
-            copyFilename(grid, "filename", out, "filename");
-            copyTransform(grid, "toWorld", out, "toWorld");
-            ignore(grid, {"sendData"});
-            finish(grid);
-            if (const Value *albedo = e.find("albedo")) {
-                if (albedo->kind == Value::Kind::Object && albedo->object->type == "gridvolume") {
-                    copyFilename(*albedo->object, "filename", out, "albedoFilename");
-                    finish(*albedo->object);
-                } else if (albedo->kind == Value::Kind::Object &&
+            // Mitsuba 0.6 names the extinction grid `density`, Mitsuba 3 `sigma_t`.
+            const char *densityName = m_snakeCase ? "sigmaT" : "density";
+            const Value *density = e.find(densityName);
+            const Value *albedo = e.find("albedo");
+            const auto isGrid = [](const Value *v) {
+                return v && v->kind == Value::Kind::Object && v->object->type == "gridvolume";
+            };
+            if (m_snakeCase && density && density->kind != Value::Kind::Object &&
+                density->kind != Value::Kind::Ref && !isGrid(albedo)) {
+                // Mitsuba 3's heterogeneous medium of constant sigma_t and albedo is ours,
+                // homogeneous.
+                out = addObject(parent, "medium", "homogeneous", ourName);
+                identify(e, out);
+                addColor(out, "sigmaT", colorOf(*density, Intent::Reflectance));
+                if (albedo)
+                    addColor(out, "albedo", colorOf(*albedo, Intent::Reflectance));
+                copyFloat(e, "scale", out, "scale");
+            } else {
+                if (!isGrid(density))
+                    throw LocatedError(density ? density->location : e.location,
+                                       fmt::format("heterogeneous needs <volume "
+                                                   "type=\"gridvolume\" name=\"{}\">",
+                                                   m_snakeCase ? "sigma_t" : "density"));
+                out = addObject(parent, "medium", "heterogeneous", ourName);
+                identify(e, out);
+                const GridPlacement placement =
+                    gridVolume(*density->object, out, "filename", nullptr);
+                if (isGrid(albedo)) {
+                    gridVolume(*albedo->object, out, "albedoFilename", &placement);
+                } else if (albedo && albedo->kind == Value::Kind::Object &&
                            albedo->object->type == "constvolume") {
                     addColor(out, "albedo",
                              constantColor(*albedo->object, "value", Intent::Reflectance)
                                  .value_or(Color3f(0.5f)));
                     finish(*albedo->object);
-                } else {
+                } else if (albedo) {
                     addColor(out, "albedo", colorOf(*albedo, Intent::Reflectance));
                 }
+                copyFloat(e, "scale", out, "scale");
+                ignore(e, {"method", "stepSize", "sampleEmitters", "hasSpectralExtinction"});
             }
-            copyFloat(e, "scale", out, "scale");
-            ignore(e, {"method", "stepSize"});
         } else {
             throw LocatedError(e.location,
                                fmt::format("unknown medium '{}'{}", e.type,
@@ -2001,6 +2098,7 @@ private:
     }
 
     const ConvertOptions &m_options;
+    bool m_snakeCase;
     pugi::xml_document m_document;
     pugi::xml_node m_root;
     std::map<std::string, const Element *> m_declared;
@@ -2015,7 +2113,7 @@ Conversion convertText(const std::string &text, const std::string &path,
     std::vector<std::unique_ptr<Source>> sources;
     Reader reader(options, sources);
     const std::shared_ptr<Element> scene = reader.readScene(text, path);
-    Converter converter(options);
+    Converter converter(options, reader.snakeCase());
     return converter.convert(*scene, reader.variables());
 }
 
