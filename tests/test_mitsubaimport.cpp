@@ -420,3 +420,73 @@ TEST_CASE("Mitsuba 3's names are Mitsuba 0.6's in snake_case", "[mitsuba][import
                }),
                Contains("no parameter 'int_iro'") && Contains("intIOR"));
 }
+
+TEST_CASE("Mitsuba plugins we do not have: one warning each, naming the stand-in",
+          "[mitsuba][import]") {
+    // phong and ward: our rough plastic, Beckmann α = √(2/(n + 2)) and √(αu·αv).
+    const mitsuba::Conversion phong = importMitsuba(mitsubaScene(R"(<shape type="sphere">
+        <bsdf type="phong"><float name="exponent" value="48"/>
+            <rgb name="diffuseReflectance" value="0.3, 0.2, 0.1"/></bsdf></shape>)"));
+    REQUIRE(phong.warnings.size() == 1);
+    CHECK_THAT(phong.warnings[0], Contains("phong is approximated by roughplastic"));
+    CHECK_THAT(phong.xml, Contains("<bsdf type=\"roughplastic\""));
+    CHECK(mitsubaNumber(phong.xml, "alpha") == Approx(std::sqrt(2.0 / 50.0)));
+    CHECK(mitsubaColor(phong.xml, "diffuseReflectance").r() == Approx(0.3f));
+    const mitsuba::Conversion ward = importMitsuba(mitsubaScene(R"(<shape type="sphere">
+        <bsdf type="ward"><float name="alphaU" value="0.1"/><float name="alphaV" value="0.4"/>
+        </bsdf></shape>)"));
+    REQUIRE(ward.warnings.size() == 1);
+    CHECK_THAT(ward.warnings[0], Contains("ward is approximated by roughplastic"));
+    CHECK(mitsubaNumber(ward.xml, "alpha") == Approx(0.2));
+    // The sun and sky: a distant disk of the sun's angular size toward sunDirection and a
+    // constant sky, in one warning.
+    const mitsuba::Conversion sunsky = importMitsuba(mitsubaScene(R"(<emitter type="sunsky">
+        <vector name="sunDirection" value="0, 1, 1"/></emitter>)"));
+    REQUIRE(sunsky.warnings.size() == 1);
+    CHECK_THAT(sunsky.warnings[0],
+               Contains("a distant disk of the sun's size") && Contains("a constant sky"));
+    CHECK_THAT(sunsky.xml,
+               Contains("<emitter type=\"distantdisk\"") && Contains("<emitter type=\"constant\""));
+    const mitsuba::Conversion sky = importMitsuba(mitsubaScene(R"(<emitter type="sky"/>)"));
+    REQUIRE(sky.warnings.size() == 1);
+    CHECK_THAT(sky.xml, !Contains("distantdisk") && Contains("<emitter type=\"constant\""));
+    CHECK_THAT(sky.warnings[0], !Contains("overhead"));
+    const mitsuba::Conversion sun = importMitsuba(mitsubaScene(R"(<emitter type="sun"/>)"));
+    REQUIRE(sun.warnings.size() == 1);
+    CHECK_THAT(sun.warnings[0], Contains("the sun is overhead"));
+    CHECK_THAT(sun.xml, Contains("distantdisk") && !Contains("<emitter type=\"constant\""));
+    // Without a coat: the nested BSDF alone.
+    const mitsuba::Conversion coating = importMitsuba(mitsubaScene(R"(<shape type="sphere">
+        <bsdf type="coating"><bsdf type="diffuse"/></bsdf></shape>)"));
+    REQUIRE(coating.warnings.size() == 1);
+    CHECK_THAT(coating.warnings[0], Contains("without the coat"));
+    CHECK_THAT(coating.xml, Contains("<bsdf type=\"diffuse\""));
+}
+
+TEST_CASE("Mitsuba's crop window, clip planes and material 'none' carry over",
+          "[mitsuba][import]") {
+    const std::string xml = importMitsuba(R"(<scene version="0.6.0">
+        <sensor type="perspective">
+            <float name="fov" value="40"/>
+            <float name="nearClip" value="0.5"/><float name="farClip" value="80"/>
+            <film type="hdrfilm">
+                <integer name="width" value="200"/><integer name="height" value="100"/>
+                <integer name="cropOffsetX" value="20"/><integer name="cropOffsetY" value="10"/>
+                <integer name="cropWidth" value="50"/><integer name="cropHeight" value="40"/>
+            </film>
+        </sensor>
+        <shape type="sphere">
+            <bsdf type="conductor"><string name="material" value="none"/></bsdf>
+        </shape>
+    </scene>)")
+                                .xml;
+    CHECK(mitsubaNumber(xml, "nearClip") == 0.5);
+    CHECK(mitsubaNumber(xml, "farClip") == 80);
+    CHECK(mitsubaNumber(xml, "cropOffsetX") == 20);
+    CHECK(mitsubaNumber(xml, "cropOffsetY") == 10);
+    CHECK(mitsubaNumber(xml, "cropWidth") == 50);
+    CHECK(mitsubaNumber(xml, "cropHeight") == 40);
+    // material "none" (η = 0, k = 1: a perfect mirror) is one of our conductor's names.
+    CHECK_THAT(xml, Contains("<bsdf type=\"conductor\"") &&
+                        Contains("name=\"material\" value=\"none\""));
+}

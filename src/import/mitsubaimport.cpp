@@ -1932,11 +1932,13 @@ private:
         }
         warn(e.location, "sky-" + e.type,
              fmt::format("the '{}' emitter (Hošek-Wilkie sky, Preetham sun) is not built here: "
-                         "{}{}{}",
+                         "{}{}{}{}",
                          e.type, e.type != "sky" ? "a distant disk of the sun's size" : "",
                          e.type == "sunsky" ? " and " : "",
                          e.type != "sun" ? "a constant sky of a clear sky's mean colour" : "",
-                         haveDirection ? "" : " (no sunDirection: the sun is overhead)"));
+                         e.type == "sky" || haveDirection
+                             ? ""
+                             : " (no sunDirection: the sun is overhead)"));
         finish(e);
     }
 
