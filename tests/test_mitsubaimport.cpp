@@ -107,15 +107,21 @@ TEST_CASE("Mitsuba 0.6 and 3 scenes render bit for bit as our hand-written XML",
     }
 
     // `nori convert` writes XML that renders the same image, from another folder.
-    const ProcessResult converted = runNori({"convert", (data / "scene-0.6.xml").string(), "-o",
-                                             (dir.path() / "out/ours.xml").string()});
-    INFO(converted.output);
-    REQUIRE(converted.exitCode == 0);
-    const ProcessResult rendered =
-        runNori({(dir.path() / "out/ours.xml").string(), "--no-progress"});
-    INFO(rendered.output);
-    REQUIRE(rendered.exitCode == 0);
-    CHECK(identicalImages(images[0], readImageFile((dir.path() / "out/ours.exr").string()).pixels));
+    for (size_t g = 0; g < groups.size(); ++g)
+        for (const std::string &scene : groups[g].second) {
+            const std::string stem = fs::path(scene).stem().string();
+            const std::string xml = (dir.path() / "out" / (stem + ".xml")).string();
+            const ProcessResult converted =
+                runNori({"convert", (data / scene).string(), "-o", xml});
+            INFO(scene << ": " << converted.output);
+            REQUIRE(converted.exitCode == 0);
+            const ProcessResult rendered = runNori({xml, "--no-progress"});
+            INFO(rendered.output);
+            REQUIRE(rendered.exitCode == 0);
+            CHECK(identicalImages(
+                images[g],
+                readImageFile((dir.path() / "out" / (stem + ".exr")).string()).pixels));
+        }
 }
 
 TEST_CASE("A Mitsuba file is told from ours by its <scene version>", "[mitsuba][import]") {
