@@ -101,3 +101,51 @@ TEST_CASE("Sphere uv as Mitsuba defines them: u = φ/2π in [0, 1), v = θ/π", 
         CHECK((its.dpdv.cast<double>() - dpdv).norm() < 1e-3 * radius * kPiDouble);
     }
 }
+
+TEST_CASE("Cube uv as Mitsuba lays them out, face by face", "[shape][mitsuba]") {
+    auto cube = std::dynamic_pointer_cast<Shape>(loadFromXMLString(
+        R"(<mesh type="cube"><string name="convention" value="mitsuba"/></mesh>)"));
+    REQUIRE(cube);
+    // One corner of each face and its uv, from Mitsuba's cube (0.6 and 3, shapes/cube.cpp):
+    // the face's normal, the corner, its uv, and a second corner with its uv.
+    struct FaceCorners {
+        Vector3f normal;
+        Point3f a;
+        Point2f uvA;
+        Point3f b;
+        Point2f uvB;
+    };
+    const FaceCorners faces[] = {
+        {{0, -1, 0}, {1, -1, -1}, {0, 1}, {-1, -1, 1}, {1, 0}},
+        {{0, 1, 0}, {1, 1, -1}, {0, 1}, {-1, 1, 1}, {1, 0}},
+        {{1, 0, 0}, {1, -1, -1}, {0, 1}, {1, 1, 1}, {1, 0}},
+        {{0, 0, 1}, {1, -1, 1}, {0, 1}, {-1, 1, 1}, {1, 0}},
+        {{-1, 0, 0}, {-1, -1, 1}, {0, 1}, {-1, 1, -1}, {1, 0}},
+        {{0, 0, -1}, {1, 1, -1}, {0, 1}, {-1, -1, -1}, {1, 0}},
+    };
+    for (const FaceCorners &face : faces) {
+        INFO("face " << face.normal.transpose());
+        // uv are affine on a face: points between the two opposite corners.
+        for (const float t : {0.1f, 0.5f, 0.8f}) {
+            const Point3f target = (1.0f - t) * face.a + t * face.b;
+            const Ray3f ray(target + 2.0f * face.normal, -face.normal);
+            // The nearest of the cube's triangles along the ray.
+            Intersection its;
+            its.t = kInfinity;
+            bool hit = false;
+            for (uint32_t index = 0; index < cube->getPrimitiveCount(); ++index) {
+                float t = 0.0f;
+                Point2f coords;
+                if (cube->rayIntersect(index, ray, t, coords) && t < its.t) {
+                    its.t = t;
+                    cube->setHitInformation(index, ray, coords, its);
+                    hit = true;
+                }
+            }
+            REQUIRE(hit);
+            const Point2f expected = (1.0f - t) * face.uvA + t * face.uvB;
+            CHECK(its.uv.x() == Approx(expected.x()).margin(1e-5));
+            CHECK(its.uv.y() == Approx(expected.y()).margin(1e-5));
+        }
+    }
+}

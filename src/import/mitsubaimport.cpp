@@ -1299,6 +1299,8 @@ private:
                 flip = !flip;
             if (flip)
                 addBoolean(out, "flipNormals", true);
+            if (type == "cube") // each face's uv laid out as Mitsuba's vertex table does
+                addString(out, "convention", "mitsuba");
         } else if (type == "sphere") {
             out = addObject(parent, "mesh", "sphere");
             Vector3f center = getPoint(e, "center").value_or(Vector3f(0.0f));
