@@ -9,6 +9,7 @@
 #include <nori/imageblock.h>
 #include <nori/layeredimage.h>
 #include <nori/splatbuffer.h>
+#include <nori/statestream.h>
 
 #include <algorithm>
 #include <array>
@@ -103,6 +104,10 @@ public:
     /// converged (adaptive sampling).
     void updateConvergence(size_t minSamples, float maxTolerance);
 
+    /// Every sum and statistic of the block, for a checkpoint, and back.
+    void saveState(StateWriter &state) const;
+    void loadState(StateReader &state);
+
 private:
     friend class Film;
     size_t index(int x, int y) const { return static_cast<size_t>(y) * m_size.x() + x; }
@@ -148,6 +153,11 @@ public:
     /// Adds a pass's splats (the film was made with `splatting`), one list per block in
     /// block order: see SplatBuffer::add.
     void addSplats(const std::vector<std::vector<SplatBuffer::Record>> &lists);
+
+    /// Every block's sums and statistics and the splat sums, for a checkpoint; loadState
+    /// restores them into a film made for the same image (else a NoriException).
+    void saveState(StateWriter &state) const;
+    void loadState(StateReader &state);
 
     /// The image: the beauty as R, G, B and one layer per AOV. Blocks are merged in
     /// index order, so every pixel sums the same values in the same order every time.

@@ -5,6 +5,7 @@
 #include <nori/color.h>
 #include <nori/object.h>
 #include <nori/ray.h>
+#include <nori/statestream.h>
 
 namespace nori {
 
@@ -89,6 +90,12 @@ public:
         (void)scene, (void)firstSample, (void)endSample;
     }
     virtual void endPass(const Scene *scene) { (void)scene; }
+    /// The state that passes leave in the integrator (the progressive photon mapper's
+    /// radii and fluxes), for a checkpoint of the render (checkpoint.h): written after a
+    /// pass, read back before the next one instead of the passes that made it. Nothing
+    /// for integrators whose passes leave no state.
+    virtual void saveState(StateWriter &state) const { (void)state; }
+    virtual void loadState(StateReader &state) { (void)state; }
     /// The most samples per pixel a pass of the render loop may take (0: no limit).
     virtual size_t maxSamplesPerPass() const { return 0; }
     /// Whether Li accounts for participating media (<medium> in a scene): `nori

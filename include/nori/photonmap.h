@@ -6,6 +6,7 @@
 
 #include <nori/color.h>
 #include <nori/ray.h>
+#include <nori/statestream.h>
 #include <nori/vector.h>
 
 #include <vector>
@@ -132,6 +133,10 @@ public:
     float smallestRadius() const;
     float largestRadius() const;
     size_t memoryBytes() const { return m_pixels.size() * sizeof(Pixel); }
+
+    /// Every pixel's statistics, for a checkpoint, and back (same image size).
+    void saveState(StateWriter &state) const;
+    void loadState(StateReader &state);
 
 private:
     int m_width = 0;

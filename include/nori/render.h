@@ -53,6 +53,17 @@ struct RenderOptions {
     bool filterImportanceSampling = false;
     /// Called (on the calling thread) after every finished pass with the film so far.
     std::function<void(const Film &film, const PassReport &report)> passFinished;
+    /// Checkpoints: called (on the calling thread) after a pass, once checkpointSeconds
+    /// have passed since the last checkpoint or the start (0: after every pass), with the
+    /// render's state: the film's sums, the passes and sample indices done, the time
+    /// spent, the integrator's state (Integrator::saveState). Not after the last pass.
+    std::function<void(const std::string &state)> checkpoint;
+    double checkpointSeconds = 0.0;
+    /// A state `checkpoint` was given by an earlier run of this render (same scene and
+    /// options): the render continues from it, and its image is the one the render
+    /// without the interruption writes, bit for bit. `resumeName` names it in errors.
+    const std::string *resumeState = nullptr;
+    std::string resumeName = "checkpoint";
 };
 
 struct RenderResult {
@@ -66,7 +77,9 @@ struct RenderResult {
     size_t samplesTaken = 0;          ///< camera samples in the image
     size_t convergedPixels = 0;       ///< pixels adaptive sampling stopped early
     size_t invalidSamples = 0;        ///< NaN, infinite or negative radiance; not splatted
-    double seconds = 0.0;             ///< the whole render, preprocessing included
+    double seconds = 0.0;             ///< the whole render, preprocessing included (and a resumed
+                                      ///< render's earlier runs)
+    size_t resumedSamplesPerPixel = 0; ///< where a resumed render continued from
 };
 
 /// The number of threads used when RenderOptions::threads is 0.

@@ -7,6 +7,7 @@
 
 #include <nori/bitmap.h>
 #include <nori/rfilter.h>
+#include <nori/statestream.h>
 
 #include <vector>
 
@@ -42,6 +43,10 @@ public:
     const Color3f &layerSum(int k, int x, int y) const {
         return m_layerSums[static_cast<size_t>(k - 1)](y, x);
     }
+
+    /// The sums, for a checkpoint, and back (into a buffer of the same size and layers).
+    void saveState(StateWriter &state) const;
+    void loadState(StateReader &state);
 
 private:
     /// Adds `record` to the pixels of rows [rowBegin, rowEnd) that the filter reaches.

@@ -107,6 +107,36 @@ void FilmBlock::updateConvergence(size_t minSamples, float maxTolerance) {
             statistics.converged = statistics.withinTolerance(maxTolerance);
 }
 
+void FilmBlock::saveState(StateWriter &state) const {
+    for (const auto &layer : m_layers)
+        if (layer)
+            state.writeArray(layer->data()->data(), static_cast<size_t>(layer->size()) * 4);
+    state.write<uint64_t>(m_statistics.size());
+    for (const PixelStatistics &statistics : m_statistics) {
+        state.write(statistics.count);
+        state.write(statistics.decisionCount);
+        state.write(statistics.sum);
+        state.write(statistics.sumOfSquares);
+        state.write(statistics.converged);
+    }
+}
+
+void FilmBlock::loadState(StateReader &state) {
+    for (const auto &layer : m_layers)
+        if (layer)
+            state.readArray(layer->data()->data(), static_cast<size_t>(layer->size()) * 4);
+    if (state.read<uint64_t>() != m_statistics.size())
+        throw NoriException("{} does not fit this render: its pixel statistics differ",
+                            state.what());
+    for (PixelStatistics &statistics : m_statistics) {
+        statistics.count = state.read<uint32_t>();
+        statistics.decisionCount = state.read<uint32_t>();
+        statistics.sum = state.read<double>();
+        statistics.sumOfSquares = state.read<double>();
+        statistics.converged = state.read<bool>();
+    }
+}
+
 Film::Film(const Vector2i &size, const ReconstructionFilter *filter, std::vector<AOV> aovs,
            bool adaptive, bool splatting, int blockSize, std::vector<std::string> splatLayers)
     : m_size(size), m_filter(filter), m_aovs(std::move(aovs)),
@@ -129,6 +159,26 @@ void Film::addSplats(const std::vector<std::vector<SplatBuffer::Record>> &lists)
     if (!m_splats)
         throw NoriException("Film::addSplats: the film was not made for an integrator that splats");
     m_splats->add(lists);
+}
+
+void Film::saveState(StateWriter &state) const {
+    state.write<uint64_t>(m_blocks.size());
+    for (const auto &block : m_blocks)
+        block->saveState(state);
+    state.write(m_splats != nullptr);
+    if (m_splats)
+        m_splats->saveState(state);
+}
+
+void Film::loadState(StateReader &state) {
+    if (state.read<uint64_t>() != m_blocks.size())
+        throw NoriException("{} does not fit this render: another image size", state.what());
+    for (const auto &block : m_blocks)
+        block->loadState(state);
+    if (state.read<bool>() != (m_splats != nullptr))
+        throw NoriException("{} does not fit this render: another integrator", state.what());
+    if (m_splats)
+        m_splats->loadState(state);
 }
 
 bool Film::needsSurfaceAOVs() const {

@@ -335,6 +335,27 @@ ProgressiveRadii::Pixel *ProgressiveRadii::pixel(const Point2i &p) {
     return index < m_pixels.size() ? &m_pixels[index] : nullptr;
 }
 
+void ProgressiveRadii::saveState(StateWriter &state) const {
+    state.write<uint64_t>(m_pixels.size());
+    for (const Pixel &pixel : m_pixels) {
+        state.write(pixel.radiusSquared);
+        state.write(pixel.photons);
+        state.write(pixel.passPhotons);
+        state.write(pixel.passSamples);
+    }
+}
+
+void ProgressiveRadii::loadState(StateReader &state) {
+    if (state.read<uint64_t>() != m_pixels.size())
+        throw NoriException("{} does not fit this render: another image size", state.what());
+    for (Pixel &pixel : m_pixels) {
+        pixel.radiusSquared = state.read<float>();
+        pixel.photons = state.read<float>();
+        pixel.passPhotons = state.read<float>();
+        pixel.passSamples = state.read<uint32_t>();
+    }
+}
+
 void ProgressiveRadii::endPass(float alpha) {
     tbb::parallel_for(size_t(0), m_pixels.size(), [&](size_t i) {
         Pixel &pixel = m_pixels[i];

@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include <chrono>
+#include <cmath>
 #include <mutex>
 
 namespace nori {
@@ -230,7 +231,53 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     std::mutex mutex;
 
     size_t sppDone = 0;
+    double earlierSeconds = 0.0; // a resumed render's earlier runs
+    if (options.resumeState) {
+        StateReader state(*options.resumeState, options.resumeName);
+        sppDone = state.read<uint64_t>();
+        result.passes = state.read<uint64_t>();
+        result.samplesTaken = state.read<uint64_t>();
+        result.invalidSamples = state.read<uint64_t>();
+        samplesDone = state.read<uint64_t>();
+        earlierSeconds = state.read<double>();
+        if (sppDone > targetSpp)
+            throw NoriException("{} does not fit this render: {} samples per pixel done of {}",
+                                options.resumeName, sppDone, targetSpp);
+        if (!(earlierSeconds >= 0.0) || !std::isfinite(earlierSeconds))
+            throw NoriException("{} is corrupt: it says {} s were spent", options.resumeName,
+                                earlierSeconds);
+        film.loadState(state);
+        scene.getIntegrator()->loadState(state);
+        if (!state.atEnd())
+            throw NoriException("{} does not fit this render: bytes are left over",
+                                options.resumeName);
+        result.resumedSamplesPerPixel = sppDone;
+    }
+    auto totalSeconds = [&] { return earlierSeconds + elapsedSeconds(); };
+    const size_t sppAtStart = sppDone;
+    auto lastCheckpoint = std::chrono::steady_clock::now();
+    size_t checkpointSpp = sppDone;
+    // The state between two passes: what a resumed render reads back above.
+    auto writeCheckpoint = [&] {
+        StateWriter state;
+        state.write<uint64_t>(sppDone);
+        state.write<uint64_t>(result.passes);
+        state.write<uint64_t>(result.samplesTaken);
+        state.write<uint64_t>(result.invalidSamples);
+        state.write<uint64_t>(samplesDone);
+        state.write(totalSeconds());
+        film.saveState(state);
+        scene.getIntegrator()->saveState(state);
+        options.checkpoint(state.bytes());
+        lastCheckpoint = std::chrono::steady_clock::now();
+        checkpointSpp = sppDone;
+    };
+
     while (sppDone < targetSpp && !isCancelled(options)) {
+        // A resumed render whose budget its earlier runs spent stops before a pass.
+        if (options.timeBudget > 0.0 && sppDone == sppAtStart && sppAtStart > 0 &&
+            totalSeconds() >= options.timeBudget)
+            break;
         Integrator *integrator = scene.getIntegrator();
         size_t passSize = std::min(
             scheduledPassSize(result.passes, options.minPassSamples, options.maxPassSamples),
@@ -240,11 +287,12 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
         if (splatting)
             passSize =
                 std::min(passSize, std::max<size_t>(1, kSplattingSamplesPerPass / pixelCount));
-        if (options.timeBudget > 0.0 && sppDone > 0) {
+        if (options.timeBudget > 0.0 && sppDone > sppAtStart) {
             // Shorten the pass to what the measured rate says fits in the budget left.
-            // The rate from the passes alone; the budget left from the whole render.
-            const double elapsed = elapsedSeconds();
-            const double secondsPerSpp = secondsSince(passesStart) / static_cast<double>(sppDone);
+            // The rate from this run's passes alone; the budget left from the whole render.
+            const double elapsed = totalSeconds();
+            const double secondsPerSpp =
+                secondsSince(passesStart) / static_cast<double>(sppDone - sppAtStart);
             const double sppLeft = (options.timeBudget - elapsed) / secondsPerSpp;
             if (sppLeft < 1.0)
                 break;
@@ -310,17 +358,24 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
         result.samplesTaken += passValid;
         result.invalidSamples += passInvalid;
         if (options.passFinished)
-            options.passFinished(film, {result.passes, sppDone, targetSpp, elapsedSeconds()});
+            options.passFinished(film, {result.passes, sppDone, targetSpp, totalSeconds()});
         if (film.convergedPixels() == pixelCount)
             break; // adaptive sampling stopped every pixel
+        if (options.checkpoint && sppDone < targetSpp &&
+            secondsSince(lastCheckpoint) >= options.checkpointSeconds)
+            writeCheckpoint();
     }
+    // Cancelled (Ctrl-C): the passes finished since the last checkpoint are kept too.
+    if (options.checkpoint && isCancelled(options) && sppDone > checkpointSpp &&
+        sppDone < targetSpp)
+        writeCheckpoint();
 
     result.cancelled = isCancelled(options);
     result.samplesPerPixel = sppDone;
     result.complete =
         !result.cancelled && (sppDone == targetSpp || film.convergedPixels() == pixelCount);
     result.convergedPixels = film.convergedPixels();
-    result.seconds = elapsedSeconds();
+    result.seconds = totalSeconds();
     result.layers = film.develop(options.keepFilterWeights);
     result.image = result.layers.layer("");
     return result;

@@ -68,4 +68,34 @@ void SplatBuffer::add(const std::vector<std::vector<Record>> &lists) {
     });
 }
 
+namespace {
+
+void saveBitmap(StateWriter &state, const Bitmap &bitmap) {
+    state.writeArray(bitmap.data()->data(), static_cast<size_t>(bitmap.size()) * 3);
+}
+
+void loadBitmap(StateReader &state, Bitmap &bitmap) {
+    state.readArray(bitmap.data()->data(), static_cast<size_t>(bitmap.size()) * 3);
+}
+
+} // namespace
+
+void SplatBuffer::saveState(StateWriter &state) const {
+    saveBitmap(state, m_sum);
+    saveBitmap(state, m_evenSum);
+    state.write<uint64_t>(m_layerSums.size());
+    for (const Bitmap &sum : m_layerSums)
+        saveBitmap(state, sum);
+}
+
+void SplatBuffer::loadState(StateReader &state) {
+    loadBitmap(state, m_sum);
+    loadBitmap(state, m_evenSum);
+    if (state.read<uint64_t>() != m_layerSums.size())
+        throw NoriException("{} does not fit this render: another number of splat layers",
+                            state.what());
+    for (Bitmap &sum : m_layerSums)
+        loadBitmap(state, sum);
+}
+
 } // namespace nori

@@ -72,6 +72,22 @@ public:
 
     size_t maxSamplesPerPass() const override { return 1; }
 
+    void saveState(StateWriter &state) const override {
+        m_radii.saveState(state);
+        state.write<uint64_t>(m_passes);
+        state.write(m_totalEmitted);
+        state.write(m_photonSeconds);
+        state.write<uint64_t>(m_peakBytes);
+    }
+    void loadState(StateReader &state) override {
+        m_radii.loadState(state);
+        m_passes = state.read<uint64_t>();
+        m_totalEmitted = state.read<uint64_t>();
+        m_photonSeconds = state.read<double>();
+        m_peakBytes = state.read<uint64_t>();
+        m_mapSample = kNoMap; // the next pass traces its own map
+    }
+
     Color3f Li(const Scene *scene, Sampler *sampler, const Ray3f &ray) const override {
         ProgressiveRadii::Pixel *pixel = m_radii.pixel(sampler->pixel());
         const float radius = pixel ? std::sqrt(pixel->radiusSquared) : m_radii.initialRadius();
