@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the fuzz targets with clang, libFuzzer, ASan and UBSan, and fuzzes each one.
 #   scripts/fuzz.sh [--seconds N] [--build DIR] [xml] [obj] [ply] [serialized] [gltf] [pbrt]
-#                   [mitsuba] [image] [tga] [lens] [volume]
+#                   [mitsuba] [image] [tga] [lens] [volume] [checkpoint]
 # Prints libFuzzer's figures (executions, coverage) and exits non-zero when a target
 # crashed, leaked, hit undefined behaviour or threw anything but a NoriException; the
 # input that did it is in DIR/artifacts/. New interesting inputs go to DIR/corpus-<target>.
@@ -16,12 +16,12 @@ while (($#)); do
     case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
-    xml | obj | ply | serialized | gltf | pbrt | mitsuba | image | tga | lens | volume)
+    xml | obj | ply | serialized | gltf | pbrt | mitsuba | image | tga | lens | volume | checkpoint)
         targets+=("$1"); shift ;;
     *) echo "fuzz.sh: unknown argument '$1' (see fuzz.sh --help)" >&2; exit 2 ;;
     esac
 done
-((${#targets[@]})) || targets=(xml obj ply serialized gltf pbrt mitsuba image tga lens volume)
+((${#targets[@]})) || targets=(xml obj ply serialized gltf pbrt mitsuba image tga lens volume checkpoint)
 
 # -O1 as libFuzzer's documentation advises; line tables only, which is all the sanitizers'
 # stack traces need and builds faster than full debug information; assertions on (no NDEBUG).
@@ -53,6 +53,7 @@ fuzz_one() {
     mitsuba) seeds=("$here/tests/fuzz/corpus/mitsuba" "$here/tests/data/mitsuba") ;;
     lens) seeds=("$here/tests/fuzz/corpus/lens" "$here/scenes/lenses") ;;
     volume) seeds=("$here/tests/fuzz/corpus/volume" "$here/scenes/media") ;;
+    checkpoint) seeds=("$here/tests/fuzz/corpus/checkpoint") ;;
     esac
     # The smallest NanoVDB file is about 300 KB (a root, one upper node of 32^3 entries),
     # so the volume target takes inputs up to 1 MiB; the others 64 KiB.

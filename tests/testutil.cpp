@@ -5,8 +5,11 @@
 #include <nori/parser.h>
 #include <nori/sampler.h>
 
+#include <chrono>
+#include <cmath>
 #include <csignal>
 #include <fstream>
+#include <poll.h>
 #include <random>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -38,8 +41,12 @@ ProcessResult runNori(const std::vector<std::string> &arguments,
     return runCommand(NORI_EXECUTABLE, arguments, interruptAfter);
 }
 
-ProcessResult runCommand(const std::string &executable, const std::vector<std::string> &arguments,
-                         const std::string &interruptAfter) {
+namespace {
+
+/// Runs `executable`, collecting what it prints; sends SIGINT once `interruptAfter`
+/// appears, and SIGKILL once `killAfterSeconds` (when not negative) have passed.
+ProcessResult runProcess(const std::string &executable, const std::vector<std::string> &arguments,
+                         const std::string &interruptAfter, double killAfterSeconds) {
     int pipeEnds[2];
     if (pipe(pipeEnds) != 0)
         throw NoriException("pipe() failed");
@@ -63,11 +70,32 @@ ProcessResult runCommand(const std::string &executable, const std::vector<std::s
     }
     close(pipeEnds[1]);
 
+    const auto start = std::chrono::steady_clock::now();
     ProcessResult result;
-    bool interrupted = false;
+    bool interrupted = false, killed = false;
     char buffer[4096];
-    ssize_t count;
-    while ((count = read(pipeEnds[0], buffer, sizeof(buffer))) > 0) {
+    for (;;) {
+        int timeout = -1;
+        if (killAfterSeconds >= 0.0 && !killed) {
+            const double left =
+                killAfterSeconds -
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (left <= 0.0) {
+                kill(pid, SIGKILL);
+                killed = true;
+            } else {
+                timeout = static_cast<int>(std::ceil(left * 1000.0));
+            }
+        }
+        pollfd descriptor{pipeEnds[0], POLLIN, 0};
+        const int ready = poll(&descriptor, 1, timeout);
+        if (ready < 0 && errno == EINTR)
+            continue;
+        if (ready == 0)
+            continue; // the deadline: killed above on the next turn
+        const ssize_t count = read(pipeEnds[0], buffer, sizeof(buffer));
+        if (count <= 0)
+            break;
         result.output.append(buffer, static_cast<size_t>(count));
         if (!interrupted && !interruptAfter.empty() &&
             result.output.find(interruptAfter) != std::string::npos) {
@@ -80,6 +108,17 @@ ProcessResult runCommand(const std::string &executable, const std::vector<std::s
     waitpid(pid, &status, 0);
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return result;
+}
+
+} // namespace
+
+ProcessResult runCommand(const std::string &executable, const std::vector<std::string> &arguments,
+                         const std::string &interruptAfter) {
+    return runProcess(executable, arguments, interruptAfter, -1.0);
+}
+
+ProcessResult runNoriKilledAfter(const std::vector<std::string> &arguments, double seconds) {
+    return runProcess(NORI_EXECUTABLE, arguments, "", seconds);
 }
 
 std::shared_ptr<Scene> litFloor(const std::string &integrator, const std::string &content) {

@@ -42,6 +42,9 @@ struct ProcessResult {
 /// once that text has appeared in the output.
 ProcessResult runNori(const std::vector<std::string> &arguments,
                       const std::string &interruptAfter = "");
+/// Runs `nori` and kills it with SIGKILL once `seconds` have passed, if it still runs
+/// (what an out-of-memory kill, a preemption or a power cut does).
+ProcessResult runNoriKilledAfter(const std::vector<std::string> &arguments, double seconds);
 /// The same for another program (its path).
 ProcessResult runCommand(const std::string &program, const std::vector<std::string> &arguments,
                          const std::string &interruptAfter = "");

@@ -18,6 +18,9 @@
 #   jobs; a task renders with --cpus-per-task threads. Options after -- go to nori
 #   (e.g. -- -D size=1024 --aovs albedo,normal).
 #
+# A task writes a checkpoint every 10 minutes (nori --checkpoint; give another interval
+# after --); a preempted or requeued task resumes from it (sbatch --requeue).
+#
 # Prints the array job's and the merge job's ids. A task that fails leaves the merge job
 # never runnable, and Slurm cancels it (--kill-on-invalid-dep=yes); resubmit the task
 # with --tasks K, which submits a new merge job.
@@ -136,7 +139,10 @@ fi
 
 command -v sbatch >/dev/null || { echo "render.sh: sbatch not found (Slurm's client); --local renders without Slurm" >&2; exit 2; }
 name=nori-$(basename "${scene%.xml}")
-array=$(sbatch --parsable --job-name="$name" --array="$tasks" --output="$outdir/part-%a.log" \
+# --requeue: a preempted task (or one of a failed node) goes back to the queue, and resumes
+# from its checkpoint (part.sh).
+array=$(sbatch --parsable --requeue --job-name="$name" --array="$tasks" --open-mode=append \
+    --output="$outdir/part-%a.log" \
     "${sbatch_options[@]}" "$here/part.sh" "$nori" "$scene" "$parts" "$outdir" \
     "${nori_options[@]}")
 array=${array%%;*} # "id;cluster" on multi-cluster sites

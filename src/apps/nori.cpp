@@ -1,5 +1,6 @@
 // The `nori` program: renders a scene file to EXR + PNG, or runs a test file.
 #include "app/buildinfo.h"
+#include "app/checkpoint.h"
 #include "app/cli.h"
 #include "app/plugincatalog.h"
 #include "app/preview.h"
@@ -73,6 +74,10 @@ The merge refuses parts of another scene (a hash of every file the scene reads, 
 the -D definitions), of another spp, resolution or filter, a part given twice, and
 missing parts unless --allow-missing (which merges those given and names the others).)";
 
+/// How often a render writes its checkpoint by default: a render shorter than this
+/// writes none.
+constexpr double kDefaultCheckpointMinutes = 10.0;
+
 /// More threads than this is a mistake, not a machine (TBB fails far above it).
 constexpr int kMaxThreads = 1024;
 
@@ -85,6 +90,9 @@ struct Options {
     int threads = 0;
     size_t samplesPerPixel = 0;
     double timeBudget = 0.0;
+    /// --checkpoint: minutes between checkpoints (0: after every pass; none: never).
+    std::optional<double> checkpointMinutes = kDefaultCheckpointMinutes;
+    bool resume = false; ///< --resume: continue from the checkpoint
     std::vector<AOV> aovs;
     bool pfm = false;
     bool denoise = false;
@@ -114,7 +122,7 @@ struct Options {
 /// same messages whatever the program that reads it).
 struct OptionTexts {
     std::vector<std::string> defines;
-    std::string threads, spp, time, aovs, exposure, part, seed, seeds;
+    std::string threads, spp, time, aovs, exposure, part, seed, seeds, checkpoint;
     int previewPort = 0;
 };
 
@@ -179,6 +187,15 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
                    "passes until it is spent (the last one shortened to fit) or until the "
                    "sample count, whichever is first")
         ->type_name("SECONDS");
+    app.add_option("--checkpoint", texts.checkpoint,
+                   "write the render's state to <file>.checkpoint every MINUTES (default 10, "
+                   "so shorter renders write none; 0: after every pass; off: never), "
+                   "atomically; removed when the render completes")
+        ->type_name("MINUTES");
+    app.add_flag("--resume", options.resume,
+                 "continue the render from <file>.checkpoint (same scene and options; --time "
+                 "counts the time already spent): the image is the one the uninterrupted "
+                 "render writes");
     app.add_option("--aovs", texts.aovs,
                    "AOV layers to add to the EXR, e.g. albedo,normal (from albedo, normal, "
                    "depth, position, sampleCount, variance, emission)")
@@ -280,7 +297,7 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
 /// option.
 void checkOptions(const CLI::App &app, Options &options, const OptionTexts &texts) {
     for (const char *flag : {"--spp", "--time", "--aovs", "--pfm", "--part", "--convention",
-                             "--preview", "--preview-wait", "-D"})
+                             "--preview", "--preview-wait", "-D", "--checkpoint", "--resume"})
         if (app.count(flag) > 0)
             options.renderOnlyFlags.emplace_back(flag);
     options.listPlugins = app.count("--list-plugins") > 0;
@@ -303,6 +320,16 @@ void checkOptions(const CLI::App &app, Options &options, const OptionTexts &text
         if (!(options.timeBudget > 0.0) || !std::isfinite(options.timeBudget))
             throw NoriException("--time must be a positive number of seconds, got {}",
                                 options.timeBudget);
+    }
+    if (texts.checkpoint == "off") {
+        options.checkpointMinutes.reset();
+    } else if (!texts.checkpoint.empty()) {
+        const float minutes = toFloat(texts.checkpoint, "--checkpoint");
+        if (!(minutes >= 0.0f) || !std::isfinite(minutes))
+            throw NoriException("--checkpoint must be a number of minutes (0 or more) or 'off', "
+                                "got '{}'",
+                                texts.checkpoint);
+        options.checkpointMinutes = minutes;
     }
     if (!texts.aovs.empty())
         options.aovs = parseAOVList(texts.aovs, "--aovs");
@@ -439,6 +466,41 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash,
                                         : std::string(),
                renderOptions.threads);
 
+    // Checkpoints beside the output, of this scene and these options only.
+    const std::string checkpointPath = checkpointFile(outputStem(options));
+    CheckpointIdentity identity;
+    identity.version = NORI_VERSION;
+    identity.sceneHash = hash;
+    {
+        std::vector<std::string> aovNames;
+        for (AOV aov : renderOptions.aovs)
+            aovNames.emplace_back(aovName(aov));
+        identity.options = {
+            {"--spp", options.samplesPerPixel > 0 ? std::to_string(options.samplesPerPixel) : ""},
+            {"--aovs", fmt::format("{}", fmt::join(aovNames, ","))},
+            {"--part",
+             options.part ? fmt::format("{}/{}", options.part->index, options.part->count) : ""},
+            {"--builtin", fmt::format("{}", fmt::join(options.builtins, ","))},
+            {"--format", options.format}};
+    }
+    std::string resumeState;
+    if (options.resume) {
+        if (!fs::exists(checkpointPath))
+            throw NoriException("--resume: there is no checkpoint '{}' (a render writes one "
+                                "every --checkpoint minutes)",
+                                checkpointPath);
+        resumeState = decodeCheckpoint(readBinaryFile(checkpointPath, "checkpoint"), checkpointPath,
+                                       identity);
+        renderOptions.resumeState = &resumeState;
+        renderOptions.resumeName = fmt::format("checkpoint '{}'", checkpointPath);
+    }
+    if (options.checkpointMinutes) {
+        renderOptions.checkpointSeconds = *options.checkpointMinutes * 60.0;
+        renderOptions.checkpoint = [&](const std::string &state) {
+            writeBinaryFile(checkpointPath, encodeCheckpoint(identity, state), "checkpoint");
+        };
+    }
+
     if (options.part) {
         const size_t total = options.samplesPerPixel > 0 ? options.samplesPerPixel
                                                          : scene.getSampler()->getSampleCount();
@@ -465,9 +527,18 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash,
     if (progress)
         progress->finish();
 
+    if (result.resumedSamplesPerPixel > 0)
+        fmt::print(stderr, "Resumed from {} at {} spp\n", checkpointPath,
+                   result.resumedSamplesPerPixel);
     const std::string stem = outputStem(options) + (result.cancelled ? "_partial" : "");
     result.layers.saveEXR(stem + ".exr");
     result.image.savePNG(stem + ".png", options.exposure);
+    if (result.complete) {
+        std::error_code ignored; // the image is written: its checkpoint has done its job
+        fs::remove(checkpointPath, ignored);
+    } else if (result.cancelled && fs::exists(checkpointPath)) {
+        fmt::print(stderr, "Checkpoint: {} (nori --resume continues the render)\n", checkpointPath);
+    }
     if (options.pfm)
         writeDenoiserInputs(result.layers, stem);
     if (result.invalidSamples > 0)
@@ -677,8 +748,9 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
     loadOptions.convention = options.convention;
     std::vector<std::string> unusedDefines;
     loadOptions.unusedDefines = &unusedDefines;
-    std::optional<ReadFileRecorder> readFiles; // for the scene hash of a split render
-    if (options.part)
+    // For the scene hash of a split render's parts and of checkpoints.
+    std::optional<ReadFileRecorder> readFiles;
+    if (options.part || options.checkpointMinutes || options.resume)
         readFiles.emplace();
     std::string outputName;
     std::shared_ptr<NoriObject> root =
