@@ -16,7 +16,10 @@ public:
     /// Appends a plain value (a number, a bool) in the machine's byte order.
     template <typename T> void write(const T &value) {
         static_assert(std::is_arithmetic_v<T>, "write numbers one by one");
-        m_bytes.append(reinterpret_cast<const char *>(&value), sizeof(T));
+        if constexpr (std::is_same_v<T, bool>)
+            m_bytes.push_back(value ? 1 : 0);
+        else
+            m_bytes.append(reinterpret_cast<const char *>(&value), sizeof(T));
     }
     /// Appends `count` numbers after their count.
     template <typename T> void writeArray(const T *data, size_t count) {
@@ -40,6 +43,14 @@ public:
 
     template <typename T> T read() {
         static_assert(std::is_arithmetic_v<T>, "read numbers one by one");
+        if constexpr (std::is_same_v<T, bool>) {
+            // A byte other than 0 or 1 is no bool (and loading it as one is undefined).
+            const auto byte = read<uint8_t>();
+            if (byte > 1)
+                throw NoriException("{} is corrupt: {} where a yes or no belongs", m_what,
+                                    int(byte));
+            return byte == 1;
+        }
         need(sizeof(T));
         T value;
         std::memcpy(&value, m_bytes.data() + m_offset, sizeof(T));

@@ -14,8 +14,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     const std::string bytes(reinterpret_cast<const char *>(data), size);
     try {
         const nori::Checkpoint checkpoint = nori::readCheckpoint(bytes, "fuzz.checkpoint");
-        // A fresh scene each time: a state also loads into the integrator.
-        auto scene = std::dynamic_pointer_cast<nori::Scene>(
+        // Loaded once: path_mis keeps no state between renders (its loadState reads none).
+        static const std::shared_ptr<nori::Scene> scene = std::dynamic_pointer_cast<nori::Scene>(
             nori::loadFromXMLString(nori::fuzz::kCheckpointScene));
         nori::RenderOptions options;
         options.threads = 1;

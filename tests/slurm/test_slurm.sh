@@ -3,7 +3,8 @@
 # (a generated minimal slurm.conf: this host, 2 CPUs, proctrack/linuxproc, no cgroups,
 # free ports, everything under one scratch folder), submits a split render through
 # scripts/slurm/render.sh, waits for its merge job, checks the image against the same
-# render in one process and against the parts run locally, and shuts the daemons down,
+# render in one process and against the parts run locally, requeues a task that has
+# written a checkpoint and checks that it resumes, and shuts the daemons down,
 # also when a step fails. A daemon that cannot start fails the test with its log.
 #   test_slurm.sh NORI IMGTOOL SCRATCH
 set -euo pipefail
@@ -165,4 +166,31 @@ submitted=$(bash "$source_dir/scripts/slurm/render.sh" "$scene" --parts 4 --spp 
 merge=$(echo "$submitted" | sed -n 's/^merge-job //p')
 wait_for_jobs "$merge"
 cmp "$out.exr" "$scratch/render/local.exr" || fail "the merge after resubmitting part 3 differs"
-echo "PASS: the Slurm job array's merged render equals the single and the local render"
+
+# A preempted task resumes: Slurm requeues part 1 of a longer render once it has written a
+# checkpoint (scontrol requeue, what a preemption does to a --requeue job); its second run
+# resumes from the checkpoint, and the merge equals the local render of the same parts.
+out=$scratch/render/requeued
+submitted=$(bash "$source_dir/scripts/slurm/render.sh" "$scene" --parts 2 --spp 2048 --out "$out" \
+    --nori "$nori" --cpus-per-task=1 -- -D integrator=path_mis -D size=32 --checkpoint 0)
+array=$(echo "$submitted" | sed -n 's/^array-job //p')
+merge=$(echo "$submitted" | sed -n 's/^merge-job //p')
+for ((i = 0; i < 600; ++i)); do
+    [ -f "$out"_parts/part-1.checkpoint ] && break
+    sleep 0.1
+done
+[ -f "$out"_parts/part-1.checkpoint ] || fail "part 1 wrote no checkpoint in 60 s"
+scontrol requeue "${array}_1" || fail "scontrol requeue ${array}_1 failed"
+wait_for_jobs "$array,$merge"
+state=$(scontrol show job "$merge" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p')
+[ "$state" = COMPLETED ] || fail "merge job $merge ended $state after the requeue"
+grep -q "part 1 of 2: resuming from" "$out"_parts/part-1.log ||
+    fail "the requeued part 1 did not resume from its checkpoint: $(cat "$out"_parts/part-1.log)"
+grep -q "Resumed from" "$out"_parts/part-1.log || fail "nori did not say it resumed"
+bash "$source_dir/scripts/slurm/render.sh" "$scene" --parts 2 --spp 2048 \
+    --out "$scratch/render/requeued-local" --nori "$nori" --local -- -D integrator=path_mis \
+    -D size=32
+cmp "$out.exr" "$scratch/render/requeued-local.exr" ||
+    fail "the merge of a requeued, resumed part differs from the uninterrupted parts"
+echo "PASS: the Slurm job array's merged render equals the single and the local render;" \
+    "a requeued part resumes from its checkpoint"
