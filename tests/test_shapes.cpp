@@ -9,6 +9,21 @@
 
 using namespace nori;
 
+namespace {
+
+/// The hit of a sphere (one primitive) by a ray from outside toward `target`, a point of
+/// its surface whose outward normal is n.
+Intersection hitFromOutside(const Shape &sphere, const Point3f &target, const Vector3f &n) {
+    const Ray3f ray(target + 3.0f * n, Vector3f(-n));
+    Intersection its;
+    Point2f coords;
+    REQUIRE(sphere.rayIntersect(0, ray, its.t, coords));
+    sphere.setHitInformation(0, ray, coords, its);
+    return its;
+}
+
+} // namespace
+
 TEST_CASE("Sphere uv: u = ½ + φ/2π (EPFL) or φ/2π (ETH), v = 1 − θ/π", "[shape]") {
     const Point3f center(0.5f, -1.0f, 2.0f);
     const float radius = 1.5f;
@@ -33,13 +48,7 @@ TEST_CASE("Sphere uv: u = ½ + φ/2π (EPFL) or φ/2π (ETH), v = 1 − θ/π", 
     for (int i = 0; i < 200; ++i) {
         const float u1 = random.nextFloat();
         const Vector3f n = Warp::squareToUniformSphere(Point2f(u1, random.nextFloat()));
-        // A ray from outside toward the point c + r·n.
-        const Point3f target = center + radius * n;
-        const Ray3f ray(target + 3.0f * n, Vector3f(-n));
-        Intersection its;
-        Point2f coords;
-        REQUIRE(sphere->rayIntersect(0, ray, its.t, coords));
-        sphere->setHitInformation(0, ray, coords, its);
+        const Intersection its = hitFromOutside(*sphere, center + radius * n, n);
         INFO("n = " << n.transpose());
         CHECK(its.uv.x() ==
               Approx(offset + std::atan2(n.y(), n.x()) / (2 * kPiDouble)).margin(1e-5));
@@ -75,12 +84,7 @@ TEST_CASE("Sphere uv as Mitsuba defines them: u = φ/2π in [0, 1), v = θ/π", 
     for (int i = 0; i < 200; ++i) {
         const float u1 = random.nextFloat();
         const Vector3f n = Warp::squareToUniformSphere(Point2f(u1, random.nextFloat()));
-        const Point3f target = center + radius * n;
-        const Ray3f ray(target + 3.0f * n, Vector3f(-n));
-        Intersection its;
-        Point2f coords;
-        REQUIRE(sphere->rayIntersect(0, ray, its.t, coords));
-        sphere->setHitInformation(0, ray, coords, its);
+        const Intersection its = hitFromOutside(*sphere, center + radius * n, n);
         INFO("n = " << n.transpose());
         double phi = std::atan2(n.y(), n.x());
         if (phi < 0.0)
