@@ -119,8 +119,7 @@ TEST_CASE("Mitsuba 0.6 and 3 scenes render bit for bit as our hand-written XML",
             INFO(rendered.output);
             REQUIRE(rendered.exitCode == 0);
             CHECK(identicalImages(
-                images[g],
-                readImageFile((dir.path() / "out" / (stem + ".exr")).string()).pixels));
+                images[g], readImageFile((dir.path() / "out" / (stem + ".exr")).string()).pixels));
         }
 }
 

@@ -22,6 +22,17 @@ Intersection hitFromOutside(const Shape &sphere, const Point3f &target, const Ve
     return its;
 }
 
+/// The hit's dp/du and dp/dv against central differences of the sphere's p(u, v), within
+/// 10⁻³ of their lengths' scales 2πr and πr.
+template <typename Position>
+void checkSphereDerivatives(const Intersection &its, Position &&position, double radius) {
+    const double h = 1e-4, u = its.uv.x(), v = its.uv.y();
+    const Eigen::Vector3d dpdu = (position(u + h, v) - position(u - h, v)) / (2 * h);
+    const Eigen::Vector3d dpdv = (position(u, v + h) - position(u, v - h)) / (2 * h);
+    CHECK((its.dpdu.cast<double>() - dpdu).norm() < 1e-3 * radius * 2 * kPiDouble);
+    CHECK((its.dpdv.cast<double>() - dpdv).norm() < 1e-3 * radius * kPiDouble);
+}
+
 } // namespace
 
 TEST_CASE("Sphere uv: u = ½ + φ/2π (EPFL) or φ/2π (ETH), v = 1 − θ/π", "[shape]") {
@@ -60,11 +71,7 @@ TEST_CASE("Sphere uv: u = ½ + φ/2π (EPFL) or φ/2π (ETH), v = 1 − θ/π", 
                                    std::sin(beta)) *
                    radius;
         };
-        const double h = 1e-4, u = its.uv.x(), v = its.uv.y();
-        const Eigen::Vector3d dpdu = (position(u + h, v) - position(u - h, v)) / (2 * h);
-        const Eigen::Vector3d dpdv = (position(u, v + h) - position(u, v - h)) / (2 * h);
-        CHECK((its.dpdu.cast<double>() - dpdu).norm() < 1e-3 * radius * 2 * kPiDouble);
-        CHECK((its.dpdv.cast<double>() - dpdv).norm() < 1e-3 * radius * kPiDouble);
+        checkSphereDerivatives(its, position, radius);
         // The frame is right-handed with its normal outward and s along dp/du.
         CHECK(its.geoFrame.n.dot(n) == Approx(1.0f).margin(1e-5));
         if (std::abs(n.z()) < 0.99f)
@@ -98,11 +105,7 @@ TEST_CASE("Sphere uv as Mitsuba defines them: u = φ/2π in [0, 1), v = θ/π", 
                                    std::cos(t)) *
                    radius;
         };
-        const double h = 1e-4, u = its.uv.x(), v = its.uv.y();
-        const Eigen::Vector3d dpdu = (position(u + h, v) - position(u - h, v)) / (2 * h);
-        const Eigen::Vector3d dpdv = (position(u, v + h) - position(u, v - h)) / (2 * h);
-        CHECK((its.dpdu.cast<double>() - dpdu).norm() < 1e-3 * radius * 2 * kPiDouble);
-        CHECK((its.dpdv.cast<double>() - dpdv).norm() < 1e-3 * radius * kPiDouble);
+        checkSphereDerivatives(its, position, radius);
     }
 }
 

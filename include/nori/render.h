@@ -72,13 +72,13 @@ struct RenderResult {
     bool complete = true; ///< false when cancelled or out of time before samplesPerPixel
     bool cancelled = false;
     size_t passes = 0;
-    size_t samplesPerPixel = 0;       ///< samples per pixel reached (adaptive: at most)
-    size_t targetSamplesPerPixel = 0; ///< what was asked for
-    size_t samplesTaken = 0;          ///< camera samples in the image
-    size_t convergedPixels = 0;       ///< pixels adaptive sampling stopped early
-    size_t invalidSamples = 0;        ///< NaN, infinite or negative radiance; not splatted
-    double seconds = 0.0;             ///< the whole render, preprocessing included (and a resumed
-                                      ///< render's earlier runs)
+    size_t samplesPerPixel = 0;        ///< samples per pixel reached (adaptive: at most)
+    size_t targetSamplesPerPixel = 0;  ///< what was asked for
+    size_t samplesTaken = 0;           ///< camera samples in the image
+    size_t convergedPixels = 0;        ///< pixels adaptive sampling stopped early
+    size_t invalidSamples = 0;         ///< NaN, infinite or negative radiance; not splatted
+    double seconds = 0.0;              ///< the whole render, preprocessing included (and a resumed
+                                       ///< render's earlier runs)
     size_t resumedSamplesPerPixel = 0; ///< where a resumed render continued from
 };
 

@@ -109,7 +109,7 @@ struct Options {
     int soakSeeds = 0;
     PluginTestOptions pluginTest;
     std::optional<PartSpec> part;
-    bool merge = false; ///< `nori merge`: merge `parts` into `output`
+    bool merge = false;   ///< `nori merge`: merge `parts` into `output`
     bool convert = false; ///< `nori convert`: write `convertInput` as our XML into `output`
     std::string convertInput;
     std::string format; ///< --format: "nori", "mitsuba" or "" (by the file)
