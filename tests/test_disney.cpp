@@ -5,6 +5,7 @@
 // because Burley's retro-reflection gains energy), the mirror limit, and textures.
 #include <nori/bsdf.h>
 #include <nori/frame.h>
+#include <nori/parallel.h>
 #include <nori/parser.h>
 #include <nori/pcg32.h>
 #include <nori/render.h>
@@ -15,7 +16,6 @@
 #include "testutil.h"
 
 #include <catch2/catch.hpp>
-#include <tbb/parallel_for.h>
 
 #include <array>
 #include <iostream>
@@ -506,7 +506,7 @@ TEST_CASE("Energy-conserving Disney reflects at most what arrives, at every corn
                  {std::pair{0.0f, 3000}, std::pair{85.0f, 8000}, std::pair{89.0f, 20000}})
                 cases.push_back({p, base, additive, layered, angle, samples, {}, {}});
         }
-    tbb::parallel_for(size_t(0), cases.size(), [&cases](size_t i) {
+    parallelFor(size_t(0), cases.size(), [&cases](size_t i) {
         Case &c = cases[i];
         c.albedo = albedo(*c.layered, incident(c.angle), c.samples);
         c.additiveAlbedo = albedo(*c.additive, incident(c.angle), 2000);

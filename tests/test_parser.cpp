@@ -1,6 +1,7 @@
 // The XML parser: Nori 2's format, our extensions, and an error with a location for
 // every kind of mistake.
 #include <nori/bsdf.h>
+#include <nori/parallel.h>
 #include <nori/parser.h>
 #include <nori/scene.h>
 
@@ -8,8 +9,6 @@
 #include "testutil.h"
 
 #include <catch2/catch.hpp>
-
-#include <tbb/parallel_for.h>
 
 using namespace nori;
 using Catch::Contains;
@@ -330,7 +329,7 @@ TEST_CASE("Scenes load from several threads at once", "[parser]") {
         <camera type="perspective"><integer name="width" value="4"/><integer name="height" value="4"/></camera>
         <mesh type="obj"><string name="filename" value="quad.obj"/></mesh></scene>)";
     std::vector<size_t> loaded(2000, 0);
-    tbb::parallel_for(size_t(0), loaded.size(), [&](size_t i) {
+    parallelFor(size_t(0), loaded.size(), [&](size_t i) {
         loaded[i] = testing::loadScene(xml, dir.path().string())->getShapes().size();
     });
     CHECK(std::count(loaded.begin(), loaded.end(), size_t(1)) == 2000);

@@ -11,9 +11,7 @@
 // divided by the albedo first and multiplied back after, so that texture detail comes
 // from the noise-free albedo (demodulation, as in Zimmer et al. 2015 and SVGF).
 #include "denoise/denoiser.h"
-
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
+#include <nori/parallel.h>
 
 #include <Eigen/Cholesky>
 
@@ -486,9 +484,8 @@ Candidates filterCandidates(const Inputs &inputs, const DenoiserSettings &settin
     const TileFilter tileFilter(inputs, settings, candidates);
     const int tilesX = (width + kTileSize - 1) / kTileSize;
     const int tilesY = (height + kTileSize - 1) / kTileSize;
-    tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-        tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
+    ThreadLimit(settings.threads).run([&] {
+        parallelFor(0, tilesX * tilesY, [&](int tile) {
             const int x0 = (tile % tilesX) * kTileSize, y0 = (tile / tilesX) * kTileSize;
             tileFilter.filter(x0, y0, std::min(kTileSize, width - x0),
                               std::min(kTileSize, height - y0));

@@ -1,9 +1,7 @@
 #include <nori/accel.h>
 #include <nori/mesh.h>
+#include <nori/parallel.h>
 #include <nori/triangle.h>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <iostream>
 
@@ -71,27 +69,25 @@ void Accel::build() {
     const std::vector<uint32_t> order = m_bvh.takePrimitiveOrder();
     const size_t packetCount = (order.size() + TrianglePacket::kWidth - 1) / TrianglePacket::kWidth;
     m_packets.resize(packetCount);
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, packetCount, 1024),
-        [&](const tbb::blocked_range<size_t> &range) {
-            for (size_t packet = range.begin(); packet != range.end(); ++packet)
-                for (int lane = 0; lane < TrianglePacket::kWidth; ++lane) {
-                    const size_t slot = packet * TrianglePacket::kWidth + lane;
-                    m_packets[packet].clear(lane);
-                    if (slot >= order.size() || order[slot] == BVHBase::kNoPrimitive)
-                        continue;
-                    const auto [shapeIndex, primIndex] = locate(order[slot]);
-                    m_packets[packet].shapeIndex[lane] = shapeIndex;
-                    m_packets[packet].primIndex[lane] = primIndex;
-                    if (!m_isMesh[shapeIndex])
-                        continue;
-                    const auto *mesh = static_cast<const Mesh *>(m_shapes[shapeIndex]);
-                    const Vector3i &face = mesh->faces()[primIndex];
-                    const auto &positions = mesh->positions();
-                    m_packets[packet].setTriangle(lane, positions[face[0]], positions[face[1]],
-                                                  positions[face[2]]);
-                }
-        });
+    parallelForChunks(size_t(0), packetCount, 1024, [&](size_t first, size_t last) {
+        for (size_t packet = first; packet != last; ++packet)
+            for (int lane = 0; lane < TrianglePacket::kWidth; ++lane) {
+                const size_t slot = packet * TrianglePacket::kWidth + lane;
+                m_packets[packet].clear(lane);
+                if (slot >= order.size() || order[slot] == BVHBase::kNoPrimitive)
+                    continue;
+                const auto [shapeIndex, primIndex] = locate(order[slot]);
+                m_packets[packet].shapeIndex[lane] = shapeIndex;
+                m_packets[packet].primIndex[lane] = primIndex;
+                if (!m_isMesh[shapeIndex])
+                    continue;
+                const auto *mesh = static_cast<const Mesh *>(m_shapes[shapeIndex]);
+                const Vector3i &face = mesh->faces()[primIndex];
+                const auto &positions = mesh->positions();
+                m_packets[packet].setTriangle(lane, positions[face[0]], positions[face[1]],
+                                              positions[face[2]]);
+            }
+    });
 
     // The instances, likewise in leaf order of their own tree.
     m_instanceBvh.build(m_instanceBounds, kInstanceIntersectionCost);

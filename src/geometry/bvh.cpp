@@ -1,9 +1,5 @@
 #include <nori/bvh.h>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
-#include <tbb/parallel_reduce.h>
+#include <nori/parallel.h>
 
 #include <array>
 #include <atomic>
@@ -261,7 +257,7 @@ public:
                 build(first + leftCount, count - leftCount, rightBounds, rightCentroids, depth + 1);
         };
         if (count > kParallelThreshold) {
-            tbb::parallel_invoke(buildLeft, buildRight);
+            parallelInvoke(buildLeft, buildRight);
         } else {
             buildLeft();
             buildRight();
@@ -337,11 +333,10 @@ private:
         const PrimitiveRef *begin = m_refs.data() + first, *end = begin + count;
         Bins bins;
         if (count > kParallelBinThreshold) {
-            bins = tbb::parallel_reduce(
-                tbb::blocked_range<const PrimitiveRef *>(begin, end, kParallelBinThreshold / 4),
-                Bins(),
-                [&](const tbb::blocked_range<const PrimitiveRef *> &range, Bins partial) {
-                    partial.add(range.begin(), range.end(), mapping);
+            bins = parallelReduce(
+                begin, end, kParallelBinThreshold / 4, Bins(),
+                [&](const PrimitiveRef *from, const PrimitiveRef *to, Bins partial) {
+                    partial.add(from, to, mapping);
                     return partial;
                 },
                 [](Bins a, const Bins &b) {
@@ -522,7 +517,7 @@ private:
             return;
         }
         if (node.count > kParallelThreshold)
-            tbb::parallel_invoke([&] { fill(node.children[0]); }, [&] { fill(node.children[1]); });
+            parallelInvoke([&] { fill(node.children[0]); }, [&] { fill(node.children[1]); });
         else
             fill(node.children[0]), fill(node.children[1]);
         const Entry &left = m_entries[node.children[0]], &right = m_entries[node.children[1]];
@@ -711,7 +706,7 @@ private:
     template <typename Visit>
     void forEachChild(uint32_t index, int childCount, Visit &&visit) const {
         if (m_builder.node(index).count > kParallelThreshold)
-            tbb::parallel_for(0, childCount, [&](int i) { visit(i); });
+            parallelFor(0, childCount, [&](int i) { visit(i); });
         else
             for (int i = 0; i < childCount; ++i)
                 visit(i);
@@ -744,10 +739,10 @@ void BVH<Width>::build(size_t count, const std::function<BoundingBox3f(size_t)> 
         SimdBox bounds, centroids;
         size_t skipped = 0;
     };
-    const RootBounds root = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, count, 16384), RootBounds(),
-        [&](const tbb::blocked_range<size_t> &range, RootBounds partial) {
-            for (size_t i = range.begin(); i != range.end(); ++i) {
+    const RootBounds root = parallelReduce(
+        size_t(0), count, 16384, RootBounds(),
+        [&](size_t first, size_t last, RootBounds partial) {
+            for (size_t i = first; i != last; ++i) {
                 const BoundingBox3f box = boundsOf(i);
                 if (!box.isValid() || !box.min.allFinite() || !box.max.allFinite()) {
                     refs[i] = PrimitiveRef(BoundingBox3f(), kNoPrimitive);

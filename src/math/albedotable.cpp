@@ -1,7 +1,6 @@
 #include <nori/albedotable.h>
 #include <nori/lowdiscrepancy.h>
-
-#include <tbb/parallel_for.h>
+#include <nori/parallel.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,7 +28,7 @@ AlbedoTable::AlbedoTable(int muCount, int paramCount, int samples, const SampleW
     : m_muCount(muCount), m_paramCount(paramCount),
       m_values(static_cast<size_t>(muCount) * paramCount),
       m_rowMaxima(static_cast<size_t>(paramCount)) {
-    tbb::parallel_for(0, muCount * paramCount, [&](int index) {
+    parallelFor(0, muCount * paramCount, [&](int index) {
         const int i = index % muCount, j = index / muCount;
         // Nodes at μ = x² for x evenly spaced: albedos change fastest at grazing angles.
         const float x =

@@ -1,7 +1,6 @@
 #include <nori/fresnel.h>
+#include <nori/parallel.h>
 #include <nori/roughtransmittance.h>
-
-#include <tbb/task_arena.h>
 
 #include <map>
 #include <memory>
@@ -72,8 +71,7 @@ const RoughTransmittance &RoughTransmittance::get(MicrofacetDistribution::Type t
     // Isolated: while the table's parallel loop runs, this thread must not pick up another
     // task that could call get() and wait for the lock it holds.
     if (!table)
-        tbb::this_task_arena::isolate(
-            [&] { table = std::make_unique<RoughTransmittance>(type, eta); });
+        runIsolated([&] { table = std::make_unique<RoughTransmittance>(type, eta); });
     return *table;
 }
 

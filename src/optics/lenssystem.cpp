@@ -2,9 +2,8 @@
 #include <nori/fresnel.h>
 #include <nori/lenssystem.h>
 #include <nori/lowdiscrepancy.h>
+#include <nori/parallel.h>
 #include <nori/warp.h>
-
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -218,7 +217,7 @@ ExitPupil::ExitPupil(const LensSystem &lens, double filmRadius, int intervals,
     const double extent = 1.5 * lens.rearApertureRadius();
     const int finePasses = std::max(1, samplesPerInterval);
     const int coarsePasses = std::max(1, samplesPerInterval / 4);
-    tbb::parallel_for(0, intervals, [&](int interval) {
+    parallelFor(0, intervals, [&](int interval) {
         const double r0 = filmRadius * interval / intervals;
         const double r1 = filmRadius * (interval + 1) / intervals;
         // `count` rays over the upper half of `region`: the box of the passing points and

@@ -1,6 +1,7 @@
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/hash.h>
+#include <nori/parallel.h>
 #include <nori/pathtracing.h>
 #include <nori/pcg32.h>
 #include <nori/photonmap.h>
@@ -8,9 +9,6 @@
 #include <nori/raydifferential.h>
 #include <nori/sampler.h>
 #include <nori/scene.h>
-
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <chrono>
@@ -121,7 +119,7 @@ void PhotonMap::build(size_t begin, size_t end) {
         [axis](const Photon &a, const Photon &b) { return a.position[axis] < b.position[axis]; });
     m_axes[median] = static_cast<uint8_t>(axis);
     if (end - begin >= kParallelBuildSize)
-        tbb::parallel_invoke([&] { build(begin, median); }, [&] { build(median + 1, end); });
+        parallelInvoke([&] { build(begin, median); }, [&] { build(median + 1, end); });
     else {
         build(begin, median);
         build(median + 1, end);
@@ -146,7 +144,7 @@ PhotonMap tracePhotons(const Scene &scene, size_t photonCount, uint64_t seed,
             static_cast<size_t>((roundPaths + kPathsPerChunk - 1) / kPathsPerChunk);
         std::vector<ChunkPhotons> chunks(chunkCount);
         const uint64_t roundStart = emitted;
-        tbb::parallel_for(size_t(0), chunkCount, [&](size_t c) {
+        parallelFor(size_t(0), chunkCount, [&](size_t c) {
             chunks[c] = traceChunk(scene, seed, roundStart + c * kPathsPerChunk, kPathsPerChunk);
         });
         for (const ChunkPhotons &chunk : chunks) {
@@ -172,8 +170,7 @@ PhotonMap tracePhotons(const Scene &scene, size_t photonCount, uint64_t seed,
     // The map holds flux per emitted path.
     if (emitted > 0) {
         const float perPath = 1.0f / static_cast<float>(emitted);
-        tbb::parallel_for(size_t(0), photons.size(),
-                          [&](size_t i) { photons[i].power *= perPath; });
+        parallelFor(size_t(0), photons.size(), [&](size_t i) { photons[i].power *= perPath; });
     }
     photons.shrink_to_fit();
     PhotonMap map(std::move(photons));
@@ -357,7 +354,7 @@ void ProgressiveRadii::loadState(StateReader &state) {
 }
 
 void ProgressiveRadii::endPass(float alpha) {
-    tbb::parallel_for(size_t(0), m_pixels.size(), [&](size_t i) {
+    parallelFor(size_t(0), m_pixels.size(), [&](size_t i) {
         Pixel &pixel = m_pixels[i];
         if (pixel.passSamples > 0 && pixel.passPhotons > 0.0f) {
             const float found = pixel.passPhotons / static_cast<float>(pixel.passSamples);

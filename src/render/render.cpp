@@ -1,11 +1,8 @@
 #include <nori/film.h>
 #include <nori/hash.h>
+#include <nori/parallel.h>
 #include <nori/render.h>
 #include <nori/scene.h>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <chrono>
 #include <cmath>
@@ -184,7 +181,7 @@ size_t scheduledPassSize(size_t pass, size_t minimum, size_t maximum) {
 } // namespace
 
 int defaultThreadCount() {
-    return tbb::this_task_arena::max_concurrency();
+    return maxParallelism();
 }
 
 RenderResult renderScene(Scene &scene, const RenderOptions &options) {
@@ -212,7 +209,7 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
               splatting ? scene.getIntegrator()->splatLayers() : std::vector<std::string>());
     const FilterSampler filterSampler(camera->getReconstructionFilter());
 
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    ThreadLimit threads(options.threads);
     // The time budget and the reported time count the integrator's preprocessing (a
     // photon map, a light BVH): it is part of what the render costs.
     const auto start = std::chrono::steady_clock::now();
@@ -221,7 +218,7 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
     };
     auto elapsedSeconds = [&] { return secondsSince(start); };
     // The integrator's own parallel work (a photon map) keeps to the threads asked for.
-    arena.execute([&] { scene.getIntegrator()->preprocess(&scene); });
+    threads.run([&] { scene.getIntegrator()->preprocess(&scene); });
     const auto passesStart = std::chrono::steady_clock::now();
 
     RenderResult result;
@@ -301,49 +298,43 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
         const SampleRange range{static_cast<uint32_t>(options.firstSample + sppDone),
                                 static_cast<uint32_t>(options.firstSample + sppDone + passSize)};
 
-        arena.execute([&] { integrator->beginPass(&scene, range.first, range.end); });
+        threads.run([&] { integrator->beginPass(&scene, range.first, range.end); });
 
         std::vector<std::unique_ptr<FilmBlock>> passBlocks(film.blockCount());
         std::vector<std::vector<SplatBuffer::Record>> passSplats(film.blockCount());
         std::atomic<bool> interrupted{false};
         size_t passValid = 0, passInvalid = 0; // counted in the result once committed
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<size_t>(0, film.blockCount(), 1),
-                [&](const tbb::blocked_range<size_t> &blocks) {
-                    for (size_t index = blocks.begin(); index != blocks.end(); ++index) {
-                        std::unique_ptr<FilmBlock> pass = film.makePassBlock(index);
-                        std::unique_ptr<Sampler> sampler = prototype->clone();
-                        std::unique_ptr<Sampler> decisionSampler;
-                        if (prototype->getMaxTolerance() > 0.0f) {
-                            decisionSampler = prototype->clone();
-                            decisionSampler->setSeed(
-                                hashValues(prototype->getSeed(), kDecisionStream));
-                        }
-                        size_t valid = 0, invalid = 0;
-                        if (!renderBlockPass(scene, *sampler, decisionSampler.get(), film,
-                                             filterSampler, film.block(index), *pass, range,
-                                             options, passSplats[index], valid, invalid)) {
-                            interrupted = true;
-                            return;
-                        }
-                        std::lock_guard<std::mutex> lock(mutex);
-                        passValid += valid;
-                        passInvalid += invalid;
-                        samplesDone += static_cast<size_t>(pass->size().prod()) * passSize;
-                        if (options.progress)
-                            options.progress(samplesDone, pixelCount * targetSpp);
-                        passBlocks[index] = std::move(pass);
-                    }
-                },
-                tbb::simple_partitioner());
+        threads.run([&] {
+            parallelForEach(size_t(0), film.blockCount(), [&](size_t index) {
+                std::unique_ptr<FilmBlock> pass = film.makePassBlock(index);
+                std::unique_ptr<Sampler> sampler = prototype->clone();
+                std::unique_ptr<Sampler> decisionSampler;
+                if (prototype->getMaxTolerance() > 0.0f) {
+                    decisionSampler = prototype->clone();
+                    decisionSampler->setSeed(hashValues(prototype->getSeed(), kDecisionStream));
+                }
+                size_t valid = 0, invalid = 0;
+                if (!renderBlockPass(scene, *sampler, decisionSampler.get(), film, filterSampler,
+                                     film.block(index), *pass, range, options, passSplats[index],
+                                     valid, invalid)) {
+                    interrupted = true;
+                    return;
+                }
+                std::lock_guard<std::mutex> lock(mutex);
+                passValid += valid;
+                passInvalid += invalid;
+                samplesDone += static_cast<size_t>(pass->size().prod()) * passSize;
+                if (options.progress)
+                    options.progress(samplesDone, pixelCount * targetSpp);
+                passBlocks[index] = std::move(pass);
+            });
         });
         if (interrupted)
             break; // the unfinished pass is dropped: the film keeps whole passes only
 
         const Sampler &settings = *prototype;
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), film.blockCount(), [&](size_t index) {
+        threads.run([&] {
+            parallelFor(size_t(0), film.blockCount(), [&](size_t index) {
                 FilmBlock &block = film.block(index);
                 block.add(*passBlocks[index]);
                 if (settings.getMaxTolerance() > 0.0f)
@@ -351,8 +342,8 @@ RenderResult renderScene(Scene &scene, const RenderOptions &options) {
             });
         });
         if (splatting)
-            arena.execute([&] { film.addSplats(passSplats); });
-        arena.execute([&] { integrator->endPass(&scene); });
+            threads.run([&] { film.addSplats(passSplats); });
+        threads.run([&] { integrator->endPass(&scene); });
         sppDone += passSize;
         ++result.passes;
         result.samplesTaken += passValid;

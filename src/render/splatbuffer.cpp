@@ -1,6 +1,5 @@
+#include <nori/parallel.h>
 #include <nori/splatbuffer.h>
-
-#include <tbb/parallel_for.h>
 
 namespace nori {
 
@@ -59,7 +58,7 @@ void SplatBuffer::put(const Record &record, int rowBegin, int rowEnd) {
 
 void SplatBuffer::add(const std::vector<std::vector<Record>> &lists) {
     const int bands = (m_size.y() + kRowsPerBand - 1) / kRowsPerBand;
-    tbb::parallel_for(0, bands, [&](int band) {
+    parallelFor(0, bands, [&](int band) {
         const int rowBegin = band * kRowsPerBand;
         const int rowEnd = std::min(m_size.y(), rowBegin + kRowsPerBand);
         for (const std::vector<Record> &list : lists)

@@ -2,6 +2,7 @@
 #include <nori/bsdf.h>
 #include <nori/emitter.h>
 #include <nori/frame.h>
+#include <nori/parallel.h>
 #include <nori/parser.h>
 #include <nori/pcg32.h>
 #include <nori/phase.h>
@@ -9,8 +10,6 @@
 #include <nori/samplingroutines.h>
 #include <nori/shape.h>
 #include <nori/warp.h>
-
-#include <tbb/parallel_for.h>
 
 #include <filesystem>
 
@@ -462,8 +461,8 @@ PluginTestResult testSamplingPlugin(const std::string &name, const PluginTestOpt
 std::vector<PluginTestResult> testSamplingPlugins(const std::vector<std::string> &names,
                                                   const PluginTestOptions &options) {
     std::vector<PluginTestResult> results(names.size());
-    tbb::parallel_for(size_t(0), names.size(),
-                      [&](size_t i) { results[i] = testSamplingPlugin(names[i], options); });
+    parallelFor(size_t(0), names.size(),
+                [&](size_t i) { results[i] = testSamplingPlugin(names[i], options); });
     return results;
 }
 
