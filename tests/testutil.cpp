@@ -4,6 +4,7 @@
 #include <nori/integrator.h>
 #include <nori/parser.h>
 #include <nori/sampler.h>
+#include <nori/testsamples.h>
 
 #include <chrono>
 #include <cmath>
@@ -192,7 +193,8 @@ RunningMoments estimatePixel(Scene &scene, size_t count) {
     std::unique_ptr<Sampler> sampler = scene.getSampler()->clone();
     const Vector2i size = scene.getCamera()->getOutputSize();
     RunningMoments moments;
-    for (size_t i = 0; i < count; ++i) {
+    const size_t samples = scaledTestSamples(count);
+    for (size_t i = 0; i < samples; ++i) {
         sampler->generate(Point2i(static_cast<int>(i % 4096), static_cast<int>(i / 4096)));
         const Point2f film = sampler->next2D();
         Ray3f ray;

@@ -63,8 +63,9 @@ RenderOptions quietOptions(int threads);
 /// rendered by `integrator`, with `content` (lights, more shapes) added.
 std::shared_ptr<Scene> litFloor(const std::string &integrator, const std::string &content);
 
-/// Mean and variance of the luminance of `count` samples of the scene's camera through
-/// its integrator (for 1×1 images whose pixel is one estimate), with independent samples.
+/// Mean and variance of the luminance of `count` samples (times testSampleScale()) of the
+/// scene's camera through its integrator (for 1×1 images whose pixel is one estimate),
+/// with independent samples.
 RunningMoments estimatePixel(Scene &scene, size_t count);
 
 /// A t-test (significance 0.01) of `samples` estimates of a 1×1 image against `reference`.

@@ -37,7 +37,7 @@ struct ChiSquareOptions {
     static constexpr int kMaxResolution = 512;
 
     int resolution = 10;          ///< bins along the first axis (Nori's default)
-    size_t sampleCount = 0;       ///< 0: 5000 per bin (Nori's default)
+    size_t sampleCount = 0;       ///< 0: 5000 per bin (Nori's default); times testSampleScale()
     double minExpFrequency = 5.0; ///< bins expecting fewer samples are pooled
     double significanceLevel = 0.01;
     uint64_t seed = 0;

@@ -6,6 +6,7 @@
 #include "app/cli.h"
 #include "testing/agreementscenes.h"
 #include <nori/common.h>
+#include <nori/testsamples.h>
 
 #include <cstdio>
 
@@ -60,6 +61,7 @@ int run(const Options &options) {
         settings.detectableBias = 0.005 / std::sqrt(8.0);
     }
     settings.progress = [](const std::string &line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+    std::printf("%s", testSampleScaleNotice().c_str());
     const AgreementReport report = runAgreement(scenes, settings);
     std::printf("%s", report.table(scenes, settings).c_str());
     const bool passed = report.passed(options.requirePower);

@@ -21,6 +21,7 @@
 #include <nori/statistics.h>
 #include <nori/strutil.h>
 #include <nori/test.h>
+#include <nori/testsamples.h>
 
 #include <algorithm>
 #include <chrono>
@@ -763,6 +764,7 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
         fmt::print(stderr, "Warning: -D {}={} is not used: {} has no ${}\n", name,
                    options.defines.at(name), options.sceneFile, name);
     if (auto test = std::dynamic_pointer_cast<Test>(root)) {
+        fmt::print("{}", testSampleScaleNotice());
         TestOptions testOptions;
         testOptions.allPictures = options.pluginTest.allPictures;
         testOptions.pictureFolder = options.pluginTest.pictureFolder;
@@ -827,6 +829,7 @@ int run(Options &options) {
                                 "give it the test file (e.g. scenes/tests/chi2test-bsdfs.xml)");
         if (options.pluginTest.pictureFolder.empty())
             options.pluginTest.pictureFolder = ".";
+        fmt::print("{}", testSampleScaleNotice());
         const std::vector<std::string> names =
             options.testAllPlugins ? samplingPlugins() : options.pluginsToTest;
         for (const std::string &name : names)

@@ -2,13 +2,12 @@
 
 #include <nori/common.h>
 #include <nori/hash.h>
+#include <nori/parallel.h>
 #include <nori/parser.h>
 #include <nori/render.h>
 #include <nori/scene.h>
 #include <nori/statistics.h>
-
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
+#include <nori/testsamples.h>
 
 #include <chrono>
 #include <cmath>
@@ -23,6 +22,18 @@ namespace {
 /// One-sided normal quantile of 95 %: a bias of (threshold + 1.645) standard errors
 /// exceeds the threshold in 95 % of runs.
 constexpr double kPowerQuantile = 1.645;
+
+/// The factor of every estimator's samples per pixel: the settings' (a soak's 8) times the
+/// tests' knob (NORI_TEST_SAMPLE_SCALE, include/nori/testsamples.h).
+double samplesFactor(const AgreementSettings &settings) {
+    return settings.sampleScale * testSampleScale();
+}
+
+/// The bias every comparison must see: with the knob at s the standard errors grow by
+/// 1/√s, and the bias asked for with them, as a soak's asks for √8 times less.
+double requiredBias(const AgreementSettings &settings) {
+    return settings.detectableBias / std::sqrt(testSampleScale());
+}
 
 /// A scene's files in a fresh folder under the system's temp folder, removed with it.
 class SceneFolder {
@@ -72,16 +83,15 @@ std::vector<RegionEstimate> estimateRegions(const AgreementScene &scene, const E
     std::vector<ImageRegion> regions{{"image", 0, 0, 0, 0}};
     regions.insert(regions.end(), scene.regions.begin(), scene.regions.end());
     const size_t spp = std::max<size_t>(
-        1, static_cast<size_t>(std::llround(settings.sampleScale *
+        1, static_cast<size_t>(std::llround(samplesFactor(settings) *
                                             static_cast<double>(estimator.samplesPerPixel))));
     // The images are small (one render block, one thread each), so the batches render
     // in parallel; each batch's means are kept and summed in batch order, which keeps the
     // result independent of the thread count.
     std::vector<std::vector<double>> means(static_cast<size_t>(settings.batches));
     std::vector<Bitmap> images(static_cast<size_t>(settings.batches));
-    tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-        tbb::parallel_for(0, settings.batches, [&](int batch) {
+    ThreadLimit(settings.threads).run([&] {
+        parallelFor(0, settings.batches, [&](int batch) {
             // Independent streams for every (seed, estimator, batch): runs with seeds s and
             // s + 1 share no batch. The sampler's seed is an integer property: 31 bits.
             const uint64_t seed = hashValues(settings.seed, static_cast<uint64_t>(estimatorIndex),
@@ -151,7 +161,7 @@ AgreementCell compareEstimates(const RegionEstimate &estimate, const RegionEstim
     cell.z = sigma > 0.0 ? delta / sigma : (delta == 0.0 ? 0.0 : std::copysign(HUGE_VAL, delta));
     cell.detectableBias = scale > 0.0 ? (settings.threshold + kPowerQuantile) * sigma / scale : 0.0;
     cell.agrees = std::abs(cell.z) <= settings.threshold;
-    cell.powerful = cell.detectableBias <= settings.detectableBias;
+    cell.powerful = cell.detectableBias <= requiredBias(settings);
     return cell;
 }
 
@@ -205,7 +215,7 @@ std::string AgreementReport::table(const std::vector<AgreementScene> &scenes,
         "Differences to each scene's first estimator in standard errors (|z| > {:g} "
         "disagrees: marked !); below each z, in brackets, the smallest bias the comparison "
         "sees with 95 % power (marked ~ when above {:g} %). {} batches per estimator.\n",
-        settings.threshold, 100.0 * settings.detectableBias, settings.batches);
+        settings.threshold, 100.0 * requiredBias(settings), settings.batches);
     size_t cellIndex = 0;
     for (size_t s = 0; s < scenes.size(); ++s) {
         const AgreementScene &scene = scenes[s];
@@ -261,12 +271,12 @@ std::string AgreementReport::table(const std::vector<AgreementScene> &scenes,
             out += fmt::format("TOO FEW SAMPLES {} / {}: {} against {} sees biases of {:.2f} "
                                "% or more, not {:g} %\n",
                                cell.scene, cell.region, cell.estimator, cell.other,
-                               100.0 * cell.detectableBias, 100.0 * settings.detectableBias);
+                               100.0 * cell.detectableBias, 100.0 * requiredBias(settings));
         }
     }
     out += fmt::format("{} comparisons, {} disagree, {} lack the power for a {:g} % bias "
                        "(and {} more of exempt estimators); {:.1f} s\n",
-                       cells.size(), disagreeing, weak, 100.0 * settings.detectableBias, exempt,
+                       cells.size(), disagreeing, weak, 100.0 * requiredBias(settings), exempt,
                        seconds);
     return out;
 }

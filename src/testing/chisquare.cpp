@@ -1,5 +1,6 @@
 #include <nori/chisquare.h>
 #include <nori/pcg32.h>
+#include <nori/testsamples.h>
 
 namespace nori {
 
@@ -76,7 +77,8 @@ ChiSquareReport runChiSquareTest(const SamplingRoutine &routine, const ChiSquare
     report.yBins =
         routine.domain == SampleDomain::Sphere ? 2 * options.resolution : options.resolution;
     const size_t binCount = static_cast<size_t>(report.xBins) * report.yBins;
-    report.sampleCount = options.sampleCount > 0 ? options.sampleCount : 5000 * binCount;
+    report.sampleCount =
+        scaledTestSamples(options.sampleCount > 0 ? options.sampleCount : 5000 * binCount);
     report.observed.assign(binCount, 0.0);
     report.expected.assign(binCount, 0.0);
 

@@ -11,7 +11,8 @@
  *   significanceLevel  float    0.01   probability of rejecting a correct sampler
  *   resolution         integer  10     bins in cos θ (φ gets twice as many), at most 512
  *   minExpFrequency    integer  5      bins expecting fewer samples are pooled
- *   sampleCount        integer  -1     samples per test; -1: 5000 per bin (Nori's default)
+ *   sampleCount        integer  -1     samples per test; -1: 5000 per bin (Nori's default);
+ *                                      times NORI_TEST_SAMPLE_SCALE (docs/testing.md)
  *   testCount          integer  5      tests per plugin
  *   seed               integer  0      seed of the test's random numbers
  *

@@ -12,7 +12,8 @@
  *   significanceLevel  float    0.01    probability of rejecting a correct estimator
  *   angles             string   ""      incident angles in degrees (BSDF mode)
  *   references         string   ""      reference values
- *   sampleCount        integer  100000  samples per estimate (overrides the scenes')
+ *   sampleCount        integer  100000  samples per estimate (overrides the scenes'; times
+ *                                       NORI_TEST_SAMPLE_SCALE, see docs/testing.md)
  *
  *   <test type="ttest">
  *       <string name="angles" value="0, 45, 80"/>
@@ -26,6 +27,7 @@
 #include <nori/statistics.h>
 #include <nori/strutil.h>
 #include <nori/test.h>
+#include <nori/testsamples.h>
 
 #include <iostream>
 
@@ -41,7 +43,7 @@ public:
         const int sampleCount = props.getInteger("sampleCount", 100000);
         if (sampleCount < 2)
             throw NoriException("ttest: 'sampleCount' must be at least 2, got {}", sampleCount);
-        m_sampleCount = static_cast<size_t>(sampleCount);
+        m_sampleCount = scaledTestSamples(static_cast<size_t>(sampleCount));
     }
 
     using NoriObject::addChild;

@@ -1,0 +1,25 @@
+// The one knob of the statistical tests' cost: NORI_TEST_SAMPLE_SCALE, a factor in (0, 1]
+// by which every χ² test, t-test and agreement test multiplies its sample counts (unset:
+// 1). scripts/sanitize.sh sets it, as the sanitizers run the renders ten times slower.
+// Significance levels stay as they are, so a correct sampler still passes with the same
+// probability; what drops is power: a test then sees only biases about 1/√scale times
+// larger, and the agreement tests ask for that much less power (docs/testing.md).
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace nori {
+
+/// NORI_TEST_SAMPLE_SCALE, read once; throws NoriException naming the variable when it is
+/// not a number in (0, 1].
+double testSampleScale();
+
+/// `count` multiplied by testSampleScale(), rounded, and at least `minimum`.
+size_t scaledTestSamples(size_t count, size_t minimum = 2);
+
+/// A line saying that the statistical tests run at reduced counts, or "" at full counts
+/// (the programs that run tests print it first, as their verdicts then have less power).
+std::string testSampleScaleNotice();
+
+} // namespace nori

@@ -1,0 +1,46 @@
+#include <nori/testsamples.h>
+
+#include <nori/common.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace nori {
+
+namespace {
+
+double readTestSampleScale() {
+    const char *text = std::getenv("NORI_TEST_SAMPLE_SCALE");
+    if (text == nullptr || *text == '\0')
+        return 1.0;
+    char *end = nullptr;
+    const double scale = std::strtod(text, &end);
+    if (*end != '\0' || !(scale > 0.0 && scale <= 1.0))
+        throw NoriException("NORI_TEST_SAMPLE_SCALE must be a number in (0, 1], got '{}'", text);
+    return scale;
+}
+
+} // namespace
+
+double testSampleScale() {
+    // The environment is read once (a C++11 static is initialised once, thread-safely); a
+    // bad value throws on every call, as the static is then never initialised.
+    static const double scale = readTestSampleScale();
+    return scale;
+}
+
+size_t scaledTestSamples(size_t count, size_t minimum) {
+    const double scaled = std::round(testSampleScale() * static_cast<double>(count));
+    return std::max(minimum, static_cast<size_t>(scaled));
+}
+
+std::string testSampleScaleNotice() {
+    if (testSampleScale() == 1.0)
+        return {};
+    return fmt::format("statistical tests at NORI_TEST_SAMPLE_SCALE={:g} of their samples (less "
+                       "power: docs/testing.md)\n",
+                       testSampleScale());
+}
+
+} // namespace nori
