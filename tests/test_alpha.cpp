@@ -116,7 +116,7 @@ TEST_CASE("The masked-out parts of a light do not shine, seen or sampled", "[alp
     }
 }
 
-TEST_CASE("Alpha is checked: a number in [0, 1] or a texture, not on a medium boundary",
+TEST_CASE("Alpha is checked: a number from 0 to 1 or a texture, not on a medium boundary",
           "[alpha][errors]") {
     CHECK_THAT(errorOf([] {
                    loadFromXMLString(

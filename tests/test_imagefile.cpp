@@ -80,7 +80,7 @@ std::vector<float> floatPattern(int width, int height) {
 
 } // namespace
 
-TEST_CASE("PNG and JPEG decode to their integers scaled to [0, 1], unconverted", "[imagefile]") {
+TEST_CASE("PNG and JPEG decode to their integers scaled to 0..1, unconverted", "[imagefile]") {
     const std::vector<unsigned char> expected = pattern8(13, 7);
     for (int channels : {1, 2, 3, 4}) {
         CAPTURE(channels);

@@ -181,6 +181,15 @@ for ((i = 0; i < 600; ++i)); do
 done
 [ -f "$out"_parts/part-1.checkpoint ] || fail "part 1 wrote no checkpoint in 60 s"
 scontrol requeue "${array}_1" || fail "scontrol requeue ${array}_1 failed"
+# Slurm holds a requeued job until its credential expires (BeginTime = now + 121 s, by
+# AuthInfo's cred_expire), which raced with wait_for_jobs' 120 s (and failed once,
+# 2026-12-06); a preempted task waits those two minutes, this one is released at once.
+# The hold is set once the killed task has ended: wait for it to be pending again.
+for ((i = 0; i < 300; ++i)); do
+    [ "$(squeue -h -j "${array}_1" -o %T 2>/dev/null)" = PENDING ] && break
+    sleep 0.1
+done
+scontrol update JobId="${array}_1" StartTime=now || fail "releasing the requeued ${array}_1 failed"
 wait_for_jobs "$array,$merge"
 state=$(scontrol show job "$merge" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p')
 [ "$state" = COMPLETED ] || fail "merge job $merge ended $state after the requeue"
