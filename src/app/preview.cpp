@@ -73,9 +73,11 @@ struct PreviewServer::State {
     double lastDevelopSeconds = 0.0; ///< of the last pass published
     std::chrono::steady_clock::time_point lastPublish{};
     size_t passesPublished = 0, passesFinished = 0;
-    /// Steady-clock time of the render's start, for the elapsed time shown while a pass
-    /// is under way.
+    /// Steady-clock time of the render's start, for the elapsed time shown before the
+    /// first pass, and of the report's arrival: later, the time shown is the report's (which
+    /// counts a resumed render's earlier time) plus the time since.
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    std::chrono::steady_clock::time_point reportTime = start;
 
     std::string statusJSON() const;
     void serveImage(const httplib::Request &request, httplib::Response &response) const;
@@ -85,9 +87,12 @@ struct PreviewServer::State {
 std::string PreviewServer::State::statusJSON() const {
     std::lock_guard<std::mutex> lock(mutex);
     const bool running = state == "rendering" || state == "running";
-    const double elapsed =
-        running ? std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
-                : report.seconds;
+    const auto now = std::chrono::steady_clock::now();
+    double elapsed = report.seconds;
+    if (running && report.samplesPerPixel > 0)
+        elapsed += std::chrono::duration<double>(now - reportTime).count();
+    else if (running)
+        elapsed = std::chrono::duration<double>(now - start).count();
     // ETA from the rate of the passes so far (samples per pixel per second), capped by the
     // time budget; unknown before the first pass.
     double eta = -1.0;
@@ -297,6 +302,7 @@ void PreviewServer::publishPass(LayeredImage image, const PassReport &report) {
     std::lock_guard<std::mutex> lock(m_state->mutex);
     m_state->image = std::move(shared);
     m_state->report = report;
+    m_state->reportTime = std::chrono::steady_clock::now();
     ++m_state->frame;
 }
 

@@ -13,10 +13,14 @@ must be installed: a missing one fails the test, it never skips. Run by ctest as
      picture by its factor, Stop writes the _partial outputs and nori exits with 130;
   3. --preview-wait: the final image on the page equals the PNG nori wrote (tonemapping
      in the page and in nori agree to one 8-bit level), nori keeps serving until Close;
-  4. a test file: its χ² pictures are served as they are written.
+  4. a resumed render (nori --resume after a Ctrl-C): the page's first pass shows the
+     samples and the time of the interrupted run as done, not a fresh start;
+  5. a test file: its χ² pictures are served as they are written.
 """
 import json
 import os
+import re
+import signal
 import shutil
 import socket
 import struct
@@ -306,6 +310,48 @@ def check_preview_wait(driver):
     print(open(log).read(), end="")
 
 
+def check_resumed_render(driver):
+    stem = os.path.join(WORKDIR, "resumed")
+    checkpoint = stem + ".checkpoint"
+    if os.path.exists(checkpoint):
+        os.remove(checkpoint)
+    # A render interrupted by Ctrl-C after 3 s and a checkpoint: its passes double, so the
+    # checkpoint holds at least half of that time, more than the resumed run's start costs.
+    args = ["--checkpoint", "0", "-D", "spp=1000000", "-o", stem, SCENE_FILE]
+    log = os.path.join(WORKDIR, "interrupted.log")
+    start = time.time()
+    first = subprocess.Popen([NORI, "--no-progress", *args], stdout=subprocess.DEVNULL,
+                             stderr=open(log, "w"))
+    while (time.time() - start < 3 or not os.path.exists(checkpoint)) and first.poll() is None:
+        time.sleep(0.05)
+    first.send_signal(signal.SIGINT)
+    check(first.wait(timeout=60) == 130, "the first run, interrupted, exits with 130")
+    done = re.search(r"\((\d+) of 1000000 spp", open(log).read())
+    check(done is not None and os.path.exists(checkpoint),
+          f"the interrupted run kept a checkpoint of {done and done.group(1)} spp")
+    interrupted_spp = int(done.group(1))
+
+    port = free_port()
+    resumed_start = time.time()
+    nori, url, log = start_nori("--resume", "--preview", str(port), *args, name="resumed")
+    driver.get(url)
+    wait_for(driver, lambda d: int(body_data(d, "drawnFrame") or 0) >= 1, "the resumed pass")
+    shown = driver.find_element(By.ID, "status").text
+    since_start = time.time() - resumed_start
+    progress = re.search(r"(\d+) of 1000000 spp · ([\d.]+) s elapsed", shown)
+    check(progress is not None and int(progress.group(1)) > interrupted_spp,
+          f"the page's first pass continues from the checkpoint's {interrupted_spp} spp "
+          f"({shown!r})")
+    check(float(progress.group(2)) > since_start,
+          f"the page's elapsed time counts the interrupted run's ({progress.group(2)} s "
+          f"shown, {since_start:.1f} s since the resumed nori started)")
+    driver.find_element(By.ID, "stop").click()
+    check(nori.wait(timeout=60) == 130, "Stop ends the resumed render with 130")
+    check(f"at {interrupted_spp} spp" in open(log).read(),
+          f"nori reports the resume at {interrupted_spp} spp")
+    os.remove(checkpoint)
+
+
 def check_test_file():
     port = free_port()
     test_file = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scenes",
@@ -339,6 +385,7 @@ driver = browser()
 try:
     check_render_stopped_from_page(driver)
     check_preview_wait(driver)
+    check_resumed_render(driver)
 finally:
     driver.quit()
 check_test_file()
