@@ -98,6 +98,9 @@ TEST_CASE("A spot light: full inside the beam, smoothstep in the ring, dark outs
 
 TEST_CASE("Two lights of very unequal power add up for every integrator that sees them",
           "[lights]") {
+    // The weak light's rare samples make the estimate normal only at the full count: at a
+    // tenth (the sanitizer runs' knob) the t statistic of a correct integrator was 2.97.
+    const FullTestSamples fullSamples;
     const std::string lights =
         fmt::format(kSpot, 1.0f, 0.0f, 2000) +
         R"(<emitter type="directional"><vector name="direction" value="0, -1, 0"/>

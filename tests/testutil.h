@@ -9,6 +9,7 @@
 #include <nori/render.h>
 #include <nori/scene.h>
 #include <nori/statistics.h>
+#include <nori/testsamples.h>
 #include <nori/warp.h>
 
 #include <filesystem>

@@ -12,8 +12,20 @@
 namespace nori {
 
 /// NORI_TEST_SAMPLE_SCALE, read once; throws NoriException naming the variable when it is
-/// not a number in (0, 1].
+/// not a number in (0, 1]. 1 while a FullTestSamples lives.
 double testSampleScale();
+
+/// While one lives, the statistical tests run at their full counts whatever the knob says:
+/// for a test whose assertions need every sample (a negative control no longer rejected at
+/// a tenth, estimates whose rare large values make them normal only at the full count).
+/// Each use says which.
+class FullTestSamples {
+public:
+    FullTestSamples();
+    ~FullTestSamples();
+    FullTestSamples(const FullTestSamples &) = delete;
+    FullTestSamples &operator=(const FullTestSamples &) = delete;
+};
 
 /// `count` multiplied by testSampleScale(), rounded, and at least `minimum`.
 size_t scaledTestSamples(size_t count, size_t minimum = 2);

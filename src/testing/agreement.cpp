@@ -82,9 +82,15 @@ std::vector<RegionEstimate> estimateRegions(const AgreementScene &scene, const E
     const SceneFolder folder(scene);
     std::vector<ImageRegion> regions{{"image", 0, 0, 0, 0}};
     regions.insert(regions.end(), scene.regions.begin(), scene.regions.end());
+    // An estimator exempt from the power requirement is one of rare events (BSDF sampling
+    // that seldom finds a small light): its batch means are normal only at its full count
+    // (at a tenth, path_mats on the glossy plates was 5.25 standard errors low, its batches
+    // skewed by the few that found the light), so the tests' knob leaves it alone.
+    const double factor =
+        estimator.powerExemption.empty() ? samplesFactor(settings) : settings.sampleScale;
     const size_t spp = std::max<size_t>(
-        1, static_cast<size_t>(std::llround(samplesFactor(settings) *
-                                            static_cast<double>(estimator.samplesPerPixel))));
+        1,
+        static_cast<size_t>(std::llround(factor * static_cast<double>(estimator.samplesPerPixel))));
     // The images are small (one render block, one thread each), so the batches render
     // in parallel; each batch's means are kept and summed in batch order, which keeps the
     // result independent of the thread count.

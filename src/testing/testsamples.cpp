@@ -3,12 +3,16 @@
 #include <nori/common.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 
 namespace nori {
 
 namespace {
+
+/// FullTestSamples alive (tests run one at a time; their loops may read it from any thread).
+std::atomic<int> g_fullSampleScopes{0};
 
 double readTestSampleScale() {
     const char *text = std::getenv("NORI_TEST_SAMPLE_SCALE");
@@ -27,7 +31,15 @@ double testSampleScale() {
     // The environment is read once (a C++11 static is initialised once, thread-safely); a
     // bad value throws on every call, as the static is then never initialised.
     static const double scale = readTestSampleScale();
-    return scale;
+    return g_fullSampleScopes > 0 ? 1.0 : scale;
+}
+
+FullTestSamples::FullTestSamples() {
+    ++g_fullSampleScopes;
+}
+
+FullTestSamples::~FullTestSamples() {
+    --g_fullSampleScopes;
 }
 
 size_t scaledTestSamples(size_t count, size_t minimum) {
