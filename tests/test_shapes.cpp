@@ -80,7 +80,8 @@ TEST_CASE("Sphere uv: u = ½ + φ/2π (EPFL) or φ/2π (ETH), v = 1 − θ/π", 
     }
 }
 
-TEST_CASE("Sphere uv as Mitsuba defines them: u = φ/2π from 0 up to 1, v = θ/π", "[shape][mitsuba]") {
+TEST_CASE("Sphere uv as Mitsuba defines them: u = φ/2π from 0 up to 1, v = θ/π",
+          "[shape][mitsuba]") {
     const Point3f center(0.5f, -1.0f, 2.0f);
     const float radius = 1.5f;
     auto sphere = std::dynamic_pointer_cast<Shape>(loadFromXMLString(
