@@ -636,6 +636,20 @@ bool isTga(const std::string &bytes, const std::string &name) {
            std::memcmp(bytes.data() + bytes.size() - footerLength, kFooter, footerLength) == 0;
 }
 
+/// The scan lines in each chunk of an EXR file of this compression (tinyexr's codes: the
+/// OpenEXR ones it reads, and its own ZFP).
+int64_t exrLinesPerChunk(int compression) {
+    switch (compression) {
+    case TINYEXR_COMPRESSIONTYPE_ZIP:
+    case TINYEXR_COMPRESSIONTYPE_ZFP:
+        return 16;
+    case TINYEXR_COMPRESSIONTYPE_PIZ:
+        return 32;
+    default: // NONE, RLE, ZIPS
+        return 1;
+    }
+}
+
 } // namespace
 
 LayeredImage decodeLayeredEXR(const std::string &bytes, const std::string &name,
@@ -681,6 +695,18 @@ LayeredImage decodeLayeredEXR(const std::string &bytes, const std::string &name,
                             "at most {} values in all)",
                             name, header.num_channels, width, height, kMaxEXRChannels,
                             4 * maxPixels);
+    // A scanline image is stored in chunks of 1, 16 or 32 lines by its compression (OpenEXR's
+    // "Technical Introduction", "Scan Lines"); the optional `chunkCount` attribute must say
+    // the same. tinyexr sizes its offset table by the attribute alone, unchecked: 2^31 − 1
+    // chunks declared by a 1×1 image would take 16 GiB before the table is read.
+    if (header.chunk_count > 0) {
+        const int64_t linesPerChunk = exrLinesPerChunk(header.compression_type);
+        const int64_t chunks = (height + linesPerChunk - 1) / linesPerChunk;
+        if (header.chunk_count != chunks)
+            throw NoriException("EXR image '{}' declares {} chunks (attribute 'chunkCount'), "
+                                "but an image of {} lines in chunks of {} has {}",
+                                name, header.chunk_count, height, linesPerChunk, chunks);
+    }
     for (int c = 0; c < header.num_channels; ++c)
         if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
             header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;

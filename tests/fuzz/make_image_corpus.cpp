@@ -1,7 +1,8 @@
 // Writes the seed corpus of the image fuzz target (tests/fuzz/corpus/image): tiny PNG,
 // JPEG, HDR (run-length coded and flat), EXR (float, half, and our multi-layer renders
-// with attributes, a part of a split render) and PFM files, made with the writers the project links
-// (stb_image_write, tinyexr) and its own (LayeredImage, Bitmap::savePFM).
+// with attributes, a part of a split render) and PFM files, made with the writers the project
+// links (stb_image_write, tinyexr) and its own (LayeredImage, Bitmap::savePFM), and two EXRs
+// written byte by byte that declare their chunk count, one rightly, one absurdly.
 //   nori-make-image-corpus tests/fuzz/corpus/image
 #include "app/renderpart.h"
 #include <nori/film.h>
@@ -10,9 +11,69 @@
 #include <stb_image_write.h>
 #include <tinyexr.h>
 
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
+
+namespace {
+
+/// Appends `value` in the little-endian byte order of EXR files.
+template <typename T> void appendLittleEndian(std::string &bytes, T value) {
+    unsigned char raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T)); // the machines we build on are little-endian
+    bytes.append(reinterpret_cast<const char *>(raw), sizeof(T));
+}
+
+/// A header attribute: name, type, size and value (OpenEXR's "File Layout", "Header").
+void appendAttribute(std::string &bytes, const char *name, const char *type,
+                     const std::string &value) {
+    bytes += name;
+    bytes += '\0';
+    bytes += type;
+    bytes += '\0';
+    appendLittleEndian(bytes, static_cast<int32_t>(value.size()));
+    bytes += value;
+}
+
+/// A 1x1 uncompressed scanline EXR of one float channel Y, written byte by byte, whose
+/// header declares `chunkCount` chunks where the file holds one: a reader that sizes its
+/// offset table by the attribute alone allocates 8 bytes per declared chunk.
+std::string exrDeclaringChunks(int32_t chunkCount) {
+    std::string bytes = "\x76\x2f\x31\x01";
+    appendLittleEndian(bytes, int32_t(2)); // version 2, single-part scanline
+    std::string channels = "Y";
+    channels += '\0';
+    appendLittleEndian(channels, int32_t(2)); // FLOAT
+    channels.append(4, '\0');                // pLinear and 3 reserved bytes
+    appendLittleEndian(channels, int32_t(1)); // x sampling
+    appendLittleEndian(channels, int32_t(1)); // y sampling
+    channels += '\0';
+    appendAttribute(bytes, "channels", "chlist", channels);
+    appendAttribute(bytes, "compression", "compression", std::string(1, '\0'));
+    const std::string box(16, '\0'); // (0, 0) to (0, 0)
+    appendAttribute(bytes, "dataWindow", "box2i", box);
+    appendAttribute(bytes, "displayWindow", "box2i", box);
+    appendAttribute(bytes, "lineOrder", "lineOrder", std::string(1, '\0'));
+    std::string one;
+    appendLittleEndian(one, 1.0f);
+    appendAttribute(bytes, "pixelAspectRatio", "float", one);
+    appendAttribute(bytes, "screenWindowCenter", "v2f", std::string(8, '\0'));
+    appendAttribute(bytes, "screenWindowWidth", "float", one);
+    std::string count;
+    appendLittleEndian(count, chunkCount);
+    appendAttribute(bytes, "chunkCount", "int", count);
+    bytes += '\0'; // end of the header
+    appendLittleEndian(bytes, static_cast<uint64_t>(bytes.size() + 8)); // the offset table
+    appendLittleEndian(bytes, int32_t(0));                              // the chunk: line 0,
+    appendLittleEndian(bytes, int32_t(4));                              // 4 bytes,
+    appendLittleEndian(bytes, 0.5f);                                    // Y = 0.5
+    return bytes;
+}
+
+} // namespace
 
 int main(int argc, char **argv) {
     if (argc != 2) {
@@ -76,6 +137,15 @@ int main(int argc, char **argv) {
         std::fclose(grey);
     } else {
         ok = false;
+    }
+    // Single-chunk EXRs whose chunkCount is right (1) and absurd (2^31 - 1).
+    for (const auto &[file, chunks] :
+         {std::pair<const char *, int32_t>{"one-chunk.exr", 1}, {"chunk-count.exr", 2147483647}}) {
+        const std::string bytes = exrDeclaringChunks(chunks);
+        std::FILE *out = std::fopen((d + file).c_str(), "wb");
+        ok = ok && out != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), out) == bytes.size();
+        if (out != nullptr)
+            ok = std::fclose(out) == 0 && ok;
     }
     if (!ok)
         std::fprintf(stderr, "could not write the corpus to %s\n", argv[1]);
