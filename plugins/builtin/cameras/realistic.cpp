@@ -99,26 +99,25 @@ public:
         if ((weight == 0.0f).all())
             return weight;
         const Eigen::Vector2d u(apertureSample.x(), apertureSample.y());
-        const Ray3f chief = chiefRay(samplePosition);
-        // The ray one pixel over along `offset`, through the same pupil point or, when
-        // that one is vignetted, the mirror of the ray one pixel back; else the chief
-        // rays' change added to this ray.
+        // The ray one pixel over along `offset`, through the same pupil point: the change
+        // of the ray over a step h of film, scaled to one pixel (a finite difference).
+        // Near the edge of the vignetted pupil the ray one pixel over, or back, may be
+        // blocked where a shorter step is not; if every step is blocked, the chief rays'
+        // change is added to this ray (which misses how the off-axis ray's own
+        // aberrations change).
         auto neighbour = [&](const Point2f &offset, Point3f &origin, Vector3f &direction) {
-            LensRay out;
-            if (traceThroughPupil(pupil(), filmPoint(samplePosition + offset), u, &out) > 0.0) {
-                const Ray3f next = toWorld(out);
-                origin = next.o;
-                direction = next.d;
-            } else if (traceThroughPupil(pupil(), filmPoint(samplePosition - offset), u, &out) >
-                       0.0) {
-                const Ray3f previous = toWorld(out);
-                origin = 2.0f * ray.o - previous.o;
-                direction = 2.0f * ray.d - previous.d;
-            } else {
-                const Ray3f chiefNext = chiefRay(samplePosition + offset);
-                origin = ray.o;
-                direction = ray.d + (chiefNext.d - chief.d);
+            for (const float step : {1.0f, -1.0f, 0.25f, -0.25f, 0.0625f, -0.0625f}) {
+                LensRay out;
+                if (traceThroughPupil(pupil(), filmPoint(samplePosition + step * offset), u,
+                                      &out) > 0.0) {
+                    const Ray3f next = toWorld(out);
+                    origin = ray.o + (next.o - ray.o) / step;
+                    direction = ray.d + (next.d - ray.d) / step;
+                    return;
+                }
             }
+            origin = ray.o;
+            direction = ray.d + (chiefRay(samplePosition + offset).d - chiefRay(samplePosition).d);
         };
         neighbour(Point2f(1.0f, 0.0f), ray.rxOrigin, ray.rxDirection);
         neighbour(Point2f(0.0f, 1.0f), ray.ryOrigin, ray.ryDirection);
