@@ -10,9 +10,8 @@
 #     --jobs N          compile and test jobs (default: the number of cores)
 #     -R REGEX          only the tests whose names match (as ctest -R)
 #     --sample-scale S  the statistical tests' samples times S, in (0, 1] (default 1);
-#                       exported as NORI_TEST_SAMPLE_SCALE, the tests' one knob. At 0.1 the
-#                       negative controls of some tests are no longer rejected
-#                       (docs/testing.md lists them): not yet a setting that passes.
+#                       exported as NORI_TEST_SAMPLE_SCALE, the tests' one knob, under
+#                       which the negative controls keep their power (docs/testing.md).
 # Prints the time of every build and test run, and exits non-zero when a build or a test
 # failed.
 # The fuzzing test (fuzz.libfuzzer) is not part of these builds: it is its own clang

@@ -232,11 +232,14 @@ TEST_CASE("Under a one-texel environment the floor gets L times the texel's proj
         tTest(*floorUnder(file, integrator), reference, 20000);
     }
     // The control: the irradiance of the texel's centre direction times its solid angle
-    // (the usual approximation, 2% off for this texel) is rejected.
+    // (the usual approximation, 2% off for this texel; its error grown by 1/√scale at
+    // reduced test counts) is rejected.
     const double approximate = 0.5 * kInvPi * 40.0 * (2.0 * kPi / 16.0) *
                                (std::cos(theta0) - std::cos(theta1)) *
                                std::cos(0.5 * (theta0 + theta1));
-    const PixelTTest wrong = tTestPixel(*floorUnder(file, "path_mis"), approximate, 20000);
+    const PixelTTest wrong = tTestPixel(*floorUnder(file, "path_mis"),
+                                        reference * (1.0 + scaledPlantedBias(approximate / reference - 1.0)),
+                                        20000);
     INFO(wrong.summary());
     CHECK_FALSE(wrong.result.passed);
     // Rotated upside down by toWorld, the texel is below the floor: no light.
@@ -258,12 +261,13 @@ TEST_CASE("path_mats, path_ems and path_mis agree under a sky with a sun", "[env
     // the light on the floor, and BSDF sampling finds it about once in 1400 samples, so
     // path_mats takes 5·10⁶ samples (its standard error 0.33 %) against 1.5·10⁶ of path_mis
     // (0.08 %). Each pair is compared by Welch's z at 1 % over the three (Šidák), and must
-    // have the power to see the 1.6 % that path_mats once lost under this sky (95 %).
+    // have the power to see the 1.6 % that path_mats once lost under this sky (95 %); at
+    // reduced test counts, 1/√scale times that, as the control's dimming.
     TempDir dir;
     const std::string map = (dir.path() / "sky.exr").string(),
                       dimmer = (dir.path() / "dimmer.exr").string();
     skyMap(60.0f)(map);
-    skyMap(60.0f * 0.98f)(dimmer);
+    skyMap(60.0f * static_cast<float>(1.0 - scaledPlantedBias(0.02)))(dimmer);
     const std::string sphere = R"(<mesh type="sphere"><point name="center" value="0.6, 0.5, -0.2"/>
         <float name="radius" value="0.5"/></mesh>)";
     const double level = sidakCorrection(0.01, 3);
@@ -289,9 +293,9 @@ TEST_CASE("path_mats, path_ems and path_mis agree under a sky with a sun", "[env
                         << ": z = " << z << " (critical " << critical
                         << "); smallest bias seen with 95 % power " << 100 * detectable << " %");
         CHECK(std::abs(z) < critical);
-        CHECK(detectable < 0.016);
+        CHECK(detectable < scaledPlantedBias(0.016));
     }
-    // Negative control: under a sun 2 % dimmer, path_ems disagrees.
+    // Negative control: under a sun 2 % dimmer (more at reduced counts), path_ems disagrees.
     const RunningMoments darker =
         estimatePixel(*floorUnder(dimmer, "path_ems", "", sphere), 1000000);
     const double z = compare(darker, reference).first;

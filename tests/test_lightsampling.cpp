@@ -405,12 +405,14 @@ AgreementScene windowRoom(const std::string &sampling, const std::string &radian
 
 TEST_CASE("A window sampled in solid angle lights a room as one sampled by area",
           "[lights][spherical][agreement]") {
-    // The control: a window 1 % brighter, sampled in solid angle, disagrees; it needs every
-    // sample (at a tenth, the sanitizer runs' knob, it was 2.4 standard errors off).
-    const FullTestSamples fullSamples;
+    // The control: a window 1 % brighter (more at reduced test counts, where at 1 % it was
+    // only 2.4 standard errors off at a tenth), sampled in solid angle, disagrees.
+    const double brighter = 1.0 + scaledPlantedBias(0.01);
+    const std::string brighterRadiance =
+        fmt::format("{}, {}, {}", 5.0 * brighter, 5.5 * brighter, 6.5 * brighter);
     const VariantAgreement result =
         compareVariant(windowRoom("area", "5, 5.5, 6.5"), windowRoom("solidangle", "5, 5.5, 6.5"),
-                       windowRoom("solidangle", "5.05, 5.555, 6.565"), AgreementSettings());
+                       windowRoom("solidangle", brighterRadiance), AgreementSettings());
     REQUIRE(result.variant.size() == 2);
     for (size_t region = 0; region < result.variant.size(); ++region) {
         CAPTURE(region);

@@ -30,6 +30,11 @@ public:
 /// `count` multiplied by testSampleScale(), rounded, and at least `minimum`.
 size_t scaledTestSamples(size_t count, size_t minimum = 2);
 
+/// A negative control's planted relative bias (0.02: 2 % too bright), grown by
+/// 1/√testSampleScale(): the standard errors grow by that factor at reduced counts, so the
+/// control stays as many standard errors away as at full counts and keeps its power.
+double scaledPlantedBias(double bias);
+
 /// A line saying that the statistical tests run at reduced counts, or "" at full counts
 /// (the programs that run tests print it first, as their verdicts then have less power).
 std::string testSampleScaleNotice();

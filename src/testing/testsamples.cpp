@@ -47,6 +47,10 @@ size_t scaledTestSamples(size_t count, size_t minimum) {
     return std::max(minimum, static_cast<size_t>(scaled));
 }
 
+double scaledPlantedBias(double bias) {
+    return bias / std::sqrt(testSampleScale());
+}
+
 std::string testSampleScaleNotice() {
     if (testSampleScale() == 1.0)
         return {};
