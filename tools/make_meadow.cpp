@@ -83,14 +83,19 @@ struct BladePlacement {
 std::vector<BladePlacement> makeClump(PCG32 &random) {
     std::vector<BladePlacement> blades;
     for (int i = 0; i < kBladesPerClump; ++i) {
+        // One draw per statement: the order in which a call's arguments, or an operator's
+        // operands, are evaluated is unspecified (GCC and clang wrote different meadows).
         const float height = 0.2f + 0.2f * random.nextFloat();
-        const Transform toClump =
-            Transform::translate(Vector3f(kClumpSize * (random.nextFloat() - 0.5f), 0.0f,
-                                          kClumpSize * (random.nextFloat() - 0.5f))) *
-            Transform::rotate(Vector3f(0, 1, 0), 360.0f * random.nextFloat()) *
-            Transform::rotate(Vector3f(1, 0, 0), 20.0f * (random.nextFloat() - 0.5f)) *
-            Transform::scale(Vector3f(height, height, height));
-        blades.push_back({static_cast<int>(random.nextUInt() % 3), toClump});
+        const float x = kClumpSize * (random.nextFloat() - 0.5f);
+        const float z = kClumpSize * (random.nextFloat() - 0.5f);
+        const float heading = 360.0f * random.nextFloat();
+        const float lean = 20.0f * (random.nextFloat() - 0.5f);
+        const int kind = static_cast<int>(random.nextUInt() % 3);
+        const Transform toClump = Transform::translate(Vector3f(x, 0.0f, z)) *
+                                  Transform::rotate(Vector3f(0, 1, 0), heading) *
+                                  Transform::rotate(Vector3f(1, 0, 0), lean) *
+                                  Transform::scale(Vector3f(height, height, height));
+        blades.push_back({kind, toClump});
     }
     return blades;
 }
