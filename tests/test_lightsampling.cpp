@@ -171,9 +171,9 @@ TEST_CASE("The bilinear warp draws its density (chi-square)", "[lights][spherica
 TEST_CASE("Inverting a spherical triangle's sample gives the sample back", "[lights][spherical]") {
     // Random triangles around the origin and random samples: the direction drawn from u,
     // inverted, is u again, to the precision of the float direction between them (the
-    // trigonometry runs in double). Measured: 4.2e-4 at worst, on slivers, whose vertices
-    // lie 135° to 160° apart; in float trigonometry it was 6.3e-3 with GCC and 0.024 with
-    // clang, from the order of their sums. Triangles too small or too large for sampling
+    // trigonometry runs in double). Measured: 4.2e-4 at worst with GCC, 5.6e-5 with clang,
+    // on slivers, whose vertices lie 135° to 160° apart; in float trigonometry it was
+    // 6.3e-3 with GCC and 0.024 with clang, from the order of their sums. Triangles too small or too large for sampling
     // in solid angle are left out as the mesh leaves them.
     PCG32 random(21, 8);
     int triangles = 0;
@@ -199,7 +199,7 @@ TEST_CASE("Inverting a spherical triangle's sample gives the sample back", "[lig
         }
     }
     CAPTURE(worst, controlWorst);
-    CHECK(worst < 1e-2);
+    CHECK(worst < 2e-3);
     // The control: inverting with a and c swapped (the other orientation of the square)
     // misses by far more.
     CHECK(controlWorst > 0.1);

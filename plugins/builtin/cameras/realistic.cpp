@@ -98,18 +98,24 @@ public:
         Color3f weight = sampleRay(ray, samplePosition, apertureSample);
         if ((weight == 0.0f).all())
             return weight;
-        const Eigen::Vector2d u(apertureSample.x(), apertureSample.y());
-        // The ray one pixel over along `offset`, through the same pupil point: the change
-        // of the ray over a step h of film, scaled to one pixel (a finite difference).
-        // Near the edge of the vignetted pupil the ray one pixel over, or back, may be
-        // blocked where a shorter step is not; if every step is blocked, the chief rays'
-        // change is added to this ray (which misses how the off-axis ray's own
+        // The rays one pixel over pass through the same point of the rear lens: the
+        // derivative of the ray by the film position at a fixed pupil point. (Through the
+        // same sample u instead, a neighbour in another of the exit pupil's radial regions
+        // lands elsewhere on the rear lens, and the difference holds that jump: 16 % short
+        // at film (474.5, 67.4) of the test's lens.)
+        double regionArea = 0.0;
+        const Eigen::Vector3d rear =
+            pupil().sample(filmPoint(samplePosition).head<2>(),
+                           Eigen::Vector2d(apertureSample.x(), apertureSample.y()), &regionArea);
+        // The change of the ray over a step h of film, scaled to one pixel (a finite
+        // difference). Near the edge of the vignetted pupil the ray one pixel over, or
+        // back, may be blocked where a shorter step is not; if every step is blocked, the
+        // chief rays' change is added to this ray (which misses how the off-axis ray's own
         // aberrations change).
         auto neighbour = [&](const Point2f &offset, Point3f &origin, Vector3f &direction) {
             for (const float step : {1.0f, -1.0f, 0.25f, -0.25f, 0.0625f, -0.0625f}) {
                 LensRay out;
-                if (traceThroughPupil(pupil(), filmPoint(samplePosition + step * offset), u,
-                                      &out) > 0.0) {
+                if (traceToward(filmPoint(samplePosition + step * offset), rear, &out)) {
                     const Ray3f next = toWorld(out);
                     origin = ray.o + (next.o - ray.o) / step;
                     direction = ray.d + (next.d - ray.d) / step;
@@ -162,13 +168,16 @@ private:
                              const Eigen::Vector2d &u, LensRay *out) const {
         double regionArea = 0.0;
         const Eigen::Vector3d rear = exitPupil.sample(film.head<2>(), u, &regionArea);
-        if (regionArea == 0.0)
+        if (regionArea == 0.0 || !traceToward(film, rear, out))
             return 0.0;
-        const Eigen::Vector3d direction = (rear - film).normalized();
-        if (!m_lens->traceFromFilm({film, direction}, out))
-            return 0.0;
-        const double cosTheta = direction.z(), rearZ = m_lens->rearZ();
+        const double cosTheta = (rear - film).normalized().z(), rearZ = m_lens->rearZ();
         return cosTheta * cosTheta * cosTheta * cosTheta * regionArea / (rearZ * rearZ);
+    }
+
+    /// Traces from `film` toward the point `rear` on the rear lens; false when the lens
+    /// blocks the ray.
+    bool traceToward(const Eigen::Vector3d &film, const Eigen::Vector3d &rear, LensRay *out) const {
+        return m_lens->traceFromFilm({film, (rear - film).normalized()}, out);
     }
 
     /// The film centre's irradiance per unit radiance, ∫ cos⁴θ/z² dA over the exit pupil,
