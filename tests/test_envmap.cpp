@@ -237,9 +237,9 @@ TEST_CASE("Under a one-texel environment the floor gets L times the texel's proj
     const double approximate = 0.5 * kInvPi * 40.0 * (2.0 * kPi / 16.0) *
                                (std::cos(theta0) - std::cos(theta1)) *
                                std::cos(0.5 * (theta0 + theta1));
-    const PixelTTest wrong = tTestPixel(*floorUnder(file, "path_mis"),
-                                        reference * (1.0 + scaledPlantedBias(approximate / reference - 1.0)),
-                                        20000);
+    const PixelTTest wrong =
+        tTestPixel(*floorUnder(file, "path_mis"),
+                   reference * (1.0 + scaledPlantedBias(approximate / reference - 1.0)), 20000);
     INFO(wrong.summary());
     CHECK_FALSE(wrong.result.passed);
     // Rotated upside down by toWorld, the texel is below the floor: no light.

@@ -25,7 +25,8 @@ public:
     template <typename T> void writeArray(const T *data, size_t count) {
         static_assert(std::is_arithmetic_v<T>, "write arrays of numbers");
         write<uint64_t>(count);
-        m_bytes.append(reinterpret_cast<const char *>(data), count * sizeof(T));
+        if (count > 0) // data may be null then
+            m_bytes.append(reinterpret_cast<const char *>(data), count * sizeof(T));
     }
     void writeString(const std::string &text) { writeArray(text.data(), text.size()); }
 
@@ -66,7 +67,8 @@ public:
             throw NoriException("{} does not fit this render: {} values where {} belong", m_what,
                                 stored, count);
         need(count * sizeof(T));
-        std::memcpy(data, m_bytes.data() + m_offset, count * sizeof(T));
+        if (count > 0) // data may be null then
+            std::memcpy(data, m_bytes.data() + m_offset, count * sizeof(T));
         m_offset += count * sizeof(T);
     }
     std::string readString() {

@@ -90,9 +90,8 @@ std::optional<Point2f> invertSphericalTriangleSample(const SphericalTriangle &tr
     if (cPrime.dot(a + c) < 0.0)
         cPrime = -cPrime;
     // Within a tenth of a degree of a, the sub-triangle has no area to measure.
-    const double u = a.dot(cPrime) > 0.99999847691
-                         ? 0.0
-                         : solidAngleOf(a, b, cPrime) / solidAngleOf(a, b, c);
+    const double u =
+        a.dot(cPrime) > 0.99999847691 ? 0.0 : solidAngleOf(a, b, cPrime) / solidAngleOf(a, b, c);
     const double denominator = 1.0 - cPrime.dot(b);
     const double v = denominator > 0.0 ? (1.0 - direction.dot(b)) / denominator : 0.0;
     return Point2f(static_cast<float>(std::clamp(u, 0.0, 1.0)),

@@ -69,12 +69,16 @@ void SplatBuffer::add(const std::vector<std::vector<Record>> &lists) {
 
 namespace {
 
+// A buffer left empty (m_evenSum without half-buffers) has no first pixel to take the
+// address of: null then, with a count of 0 (UBSan saw the member call on null).
 void saveBitmap(StateWriter &state, const Bitmap &bitmap) {
-    state.writeArray(bitmap.data()->data(), static_cast<size_t>(bitmap.size()) * 3);
+    const float *values = bitmap.size() > 0 ? bitmap.data()->data() : nullptr;
+    state.writeArray(values, static_cast<size_t>(bitmap.size()) * 3);
 }
 
 void loadBitmap(StateReader &state, Bitmap &bitmap) {
-    state.readArray(bitmap.data()->data(), static_cast<size_t>(bitmap.size()) * 3);
+    float *values = bitmap.size() > 0 ? bitmap.data()->data() : nullptr;
+    state.readArray(values, static_cast<size_t>(bitmap.size()) * 3);
 }
 
 } // namespace

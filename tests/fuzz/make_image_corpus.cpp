@@ -47,7 +47,7 @@ std::string exrDeclaringChunks(int32_t chunkCount) {
     std::string channels = "Y";
     channels += '\0';
     appendLittleEndian(channels, int32_t(2)); // FLOAT
-    channels.append(4, '\0');                // pLinear and 3 reserved bytes
+    channels.append(4, '\0');                 // pLinear and 3 reserved bytes
     appendLittleEndian(channels, int32_t(1)); // x sampling
     appendLittleEndian(channels, int32_t(1)); // y sampling
     channels += '\0';
@@ -65,7 +65,7 @@ std::string exrDeclaringChunks(int32_t chunkCount) {
     std::string count;
     appendLittleEndian(count, chunkCount);
     appendAttribute(bytes, "chunkCount", "int", count);
-    bytes += '\0'; // end of the header
+    bytes += '\0';                                                      // end of the header
     appendLittleEndian(bytes, static_cast<uint64_t>(bytes.size() + 8)); // the offset table
     appendLittleEndian(bytes, int32_t(0));                              // the chunk: line 0,
     appendLittleEndian(bytes, int32_t(4));                              // 4 bytes,
@@ -143,7 +143,8 @@ int main(int argc, char **argv) {
          {std::pair<const char *, int32_t>{"one-chunk.exr", 1}, {"chunk-count.exr", 2147483647}}) {
         const std::string bytes = exrDeclaringChunks(chunks);
         std::FILE *out = std::fopen((d + file).c_str(), "wb");
-        ok = ok && out != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), out) == bytes.size();
+        ok =
+            ok && out != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), out) == bytes.size();
         if (out != nullptr)
             ok = std::fclose(out) == 0 && ok;
     }
