@@ -69,8 +69,13 @@ fuzz_one() {
         -artifact_prefix="$build/artifacts/$target-" -print_final_stats=1 \
         > "$build/fuzz-$target.log" 2>&1 || status=1
     if ((status)); then
-        echo "the $target target failed; its report:" >> "$summary"
-        tail -n 60 "$build/fuzz-$target.log" >> "$summary"
+        # The report from its first line (the sanitizer's or libFuzzer's), where the
+        # frames that matter are: a long trace cut at its end loses them.
+        local report
+        report="$(awk '/ERROR: |runtime error: |deadly signal|uncaught exception/ { on = 1 }
+                       on && n++ < 60' "$build/fuzz-$target.log")"
+        [ -n "$report" ] || report="$(tail -n 60 "$build/fuzz-$target.log")"
+        printf 'the %s target failed; its report:\n%s\n' "$target" "$report" >> "$summary"
     fi
     grep -E "^Done|stat::number_of_executed_units|stat::peak_rss_mb|cov:" "$build/fuzz-$target.log" |
         tail -n 4 >> "$summary"

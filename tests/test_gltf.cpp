@@ -48,6 +48,10 @@ public:
             fmt::format(R"("bufferView":{},"componentType":{},"count":{},"type":"{}"{})", index,
                         componentType, count, type, extra));
     }
+    int rawView(const std::string &fields) {
+        m_views.push_back("{" + fields + "}");
+        return int(m_views.size()) - 1;
+    }
     int rawAccessor(const std::string &fields) {
         m_accessors.push_back("{" + fields + "}");
         return int(m_accessors.size()) - 1;
@@ -484,6 +488,23 @@ TEST_CASE("A malformed glTF file is an error naming the file and what is wrong",
     CHECK_THAT(errorOf([&] { readGltf(path); }),
                Contains("short.glb") &&
                    Contains("3 elements reaching beyond its buffer view of 24 bytes"));
+    // An image in a buffer view past the end of its buffer (tinygltf hands such bytes to
+    // the image callback unchecked).
+    AssetWriter farImage = quadAsset();
+    const int farView = farImage.rawView(R"("buffer":0,"byteOffset":100000,"byteLength":12)");
+    const std::string farPath = folder.write(
+        "far-image.gltf",
+        farImage.embedded(
+            quadScene(0) +
+            fmt::format(
+                R"(,"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}],
+        "images":[{{"bufferView":{},"mimeType":"image/png"}}],"textures":[{{"source":0}}])",
+                farView)));
+    CHECK_THAT(errorOf([&] { readGltf(farPath); }),
+               Contains("far-image.gltf") &&
+                   Contains(fmt::format("has buffer view {} (bytes 100000 to 100012) beyond its "
+                                        "buffer of {} bytes",
+                                        farView, farImage.bin().size())));
     // Truncated GLB.
     const std::string glb = quadAsset().glb(quadScene(-1));
     const std::string truncated = folder.write("truncated.glb", glb.substr(0, glb.size() / 2));

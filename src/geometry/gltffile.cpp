@@ -90,7 +90,15 @@ private:
                            : fmt::format("image {}{}", i,
                                          image.name.empty() ? "" : " '" + image.name + "'");
             out.mimeType = image.mimeType;
-            out.bytes.assign(image.image.begin(), image.image.end());
+            if (image.bufferView >= 0) {
+                // keepEncodedImage left these bytes to us: tinygltf hands over a buffer
+                // view's bytes without checking the view against its buffer.
+                const auto [bytes, stride] = bufferView(image.bufferView, 0, 0, 1, "an image");
+                const size_t size = m_model.bufferViews[size_t(image.bufferView)].byteLength;
+                out.bytes.assign(bytes, bytes + size);
+            } else {
+                out.bytes.assign(image.image.begin(), image.image.end());
+            }
             m_asset.images.push_back(std::move(out));
         }
     }
@@ -613,10 +621,13 @@ private:
     GltfAsset m_asset;
 };
 
-/// tinygltf's image callback: keep the encoded bytes, the `gltf` shape decodes them.
+/// tinygltf's image callback: keep the encoded bytes, the `gltf` shape decodes them. An
+/// image in a buffer view is left to GltfReader::readImages: tinygltf (before its 2025
+/// fix, syoyo/tinygltf#512) passes such bytes unchecked, possibly past its buffer's end.
 bool keepEncodedImage(tinygltf::Image *image, const int, std::string *, std::string *, int, int,
                       const unsigned char *bytes, int size, void *) {
-    image->image.assign(bytes, bytes + size);
+    if (image->bufferView < 0)
+        image->image.assign(bytes, bytes + size);
     image->as_is = true;
     return true;
 }
