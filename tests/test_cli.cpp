@@ -47,7 +47,8 @@ TEST_CASE("nori renders a scene to EXR and PNG next to it", "[cli]") {
     auto result = runNori({scene});
     INFO(result.output);
     REQUIRE(result.exitCode == 0);
-    CHECK_THAT(result.output, Contains("Rendering: 100%") && Contains("Done in"));
+    CHECK_THAT(result.output, Contains("Rendering: 100%") && Contains("Done in") &&
+                                  Contains("Loaded " + scene + " in "));
     // Statistics as Nori and pbrt print them: the scene first, rays at the end.
     CHECK_THAT(result.output, Contains("Scene: 2 shapes (2 triangles), 0 emitters; BVH of 3 "
                                        "primitives built in") &&
@@ -66,6 +67,27 @@ TEST_CASE("nori renders a scene to EXR and PNG next to it", "[cli]") {
         CHECK(std::filesystem::exists(dir.path() / "renders" / "out.png"));
         CHECK_THAT(custom.output, !Contains("Rendering:"));
         CHECK_THAT(custom.output, !Contains("Warning: -D"));
+    }
+
+    SECTION("--seed gives a render its own noise; a seed given twice, the same image") {
+        const auto render = [&](const std::string &seed, const std::string &name) {
+            const std::string out = (dir.path() / name).string();
+            auto run = runNori({"--seed", seed, "-o", out, "--no-progress", scene});
+            INFO(run.output);
+            REQUIRE(run.exitCode == 0);
+            return Bitmap::load(out + ".exr");
+        };
+        const auto same = [](const Bitmap &a, const Bitmap &b) {
+            for (Eigen::Index i = 0; i < a.size(); ++i)
+                if ((a(i) != b(i)).any())
+                    return false;
+            return a.size() == b.size();
+        };
+        const Bitmap first = render("7", "seed7"), again = render("7", "seed7-again");
+        const Bitmap other = render("8", "seed8");
+        CHECK(same(first, again));
+        CHECK(!same(first, other));
+        CHECK(!same(first, image)); // the scene's own seed, 0
     }
 
     SECTION("a -D that the scene never uses is a warning naming it") {

@@ -90,6 +90,7 @@ struct Options {
     std::vector<std::string> builtins; ///< --builtin: our plugins to use instead of a user's
     int threads = 0;
     size_t samplesPerPixel = 0;
+    std::optional<uint64_t> renderSeed; ///< --seed for a render: the sampler's seed
     double timeBudget = 0.0;
     /// --checkpoint: minutes between checkpoints (0: after every pass; none: never).
     std::optional<double> checkpointMinutes = kDefaultCheckpointMinutes;
@@ -251,7 +252,10 @@ void defineCommandLine(CLI::App &app, Options &options, OptionTexts &texts) {
     app.add_flag("--test-plugins", options.testAllPlugins,
                  "the same for every registered BSDF, phase function and emitter "
                  "(integrators: name them to --test-plugin)");
-    app.add_option("--seed", texts.seed, "the seed of --test-plugin (default 1)")->type_name("S");
+    app.add_option("--seed", texts.seed,
+                   "the sampler's seed of a render, overriding the scene's (renders with other "
+                   "seeds have independent noise), and the seed of --test-plugin (default 1)")
+        ->type_name("S");
     app.add_option("--seeds", texts.seeds,
                    "soak: run --test-plugin(s) with seeds 1..N and count the failures of each "
                    "plugin against the 1% a correct one fails by chance")
@@ -340,8 +344,10 @@ void checkOptions(const CLI::App &app, Options &options, const OptionTexts &text
         options.part = parsePartSpec(texts.part, "--part");
     if (!options.convention.empty() && options.convention != "epfl" && options.convention != "eth")
         throw NoriException("--convention must be 'epfl' or 'eth', got '{}'", options.convention);
-    if (!texts.seed.empty())
+    if (!texts.seed.empty()) {
         options.pluginTest.seed = static_cast<uint64_t>(parsePositive(texts.seed, "--seed"));
+        options.renderSeed = options.pluginTest.seed;
+    }
     if (!texts.seeds.empty())
         options.soakSeeds = parsePositive(texts.seeds, "--seeds");
     const bool previewGiven = app.count("--preview") + app.count("--preview-wait") > 0;
@@ -440,6 +446,8 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash,
     RenderOptions renderOptions;
     renderOptions.threads = options.threads > 0 ? options.threads : defaultThreadCount();
     renderOptions.samplesPerPixel = options.samplesPerPixel;
+    if (options.renderSeed)
+        scene.getSampler()->setSeed(*options.renderSeed);
     std::unique_ptr<ProgressBar> progress;
     if (options.showProgress)
         renderOptions.progress = [&progress](size_t done, size_t total) {
@@ -478,6 +486,7 @@ int renderToFiles(Scene &scene, const Options &options, const std::string &hash,
             aovNames.emplace_back(aovName(aov));
         identity.options = {
             {"--spp", options.samplesPerPixel > 0 ? std::to_string(options.samplesPerPixel) : ""},
+            {"--seed", options.renderSeed ? std::to_string(*options.renderSeed) : ""},
             {"--aovs", fmt::format("{}", fmt::join(aovNames, ","))},
             {"--part",
              options.part ? fmt::format("{}/{}", options.part->index, options.part->count) : ""},
@@ -754,8 +763,11 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
     if (options.part || options.checkpointMinutes || options.resume)
         readFiles.emplace();
     std::string outputName;
+    const auto loadStart = std::chrono::steady_clock::now();
     std::shared_ptr<NoriObject> root =
         loadSceneFile(options.sceneFile, options.format, loadOptions, outputName);
+    const double loadSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
     const std::string hash =
         readFiles ? sceneHash(readFiles->digests(), options.defines, options.convention)
                   : std::string();
@@ -788,6 +800,8 @@ int loadAndRun(const Options &options, PreviewServer *preview) {
         return passed ? 0 : 1;
     }
     if (auto scene = std::dynamic_pointer_cast<Scene>(root)) {
+        // Time to first pixel: parsing, reading meshes and textures, building the BVH.
+        fmt::print(stderr, "Loaded {} in {}\n", options.sceneFile, formatDuration(loadSeconds));
         catchInterrupt();
         if (options.output.empty() && !outputName.empty()) {
             // A pbrt-v4 film's filename names the output, next to the scene file as ours are.
