@@ -29,13 +29,7 @@ nori() { # output name, then -D definitions; prints the render time in seconds
     local name="$1"; shift
     "$build/nori" --no-progress --threads "$threads" -D integrator=path_mis -D size="$size" -D sphere=diffuse \
         -D filter=box "$@" "$here/scenes/cbox/cbox.xml" -o "$out/$name.exr" 2>&1 |
-        awk '/^Done in / { # "Done in 840 ms (", "8.31 s (", "11.2 s (", "6 min 43 s (", "1 h 02 min ("
-                 n = split(substr($0, 9, index($0, " (") - 9), f, " "); t = 0
-                 for (i = 1; i < n; i += 2) {
-                     unit = f[i + 1] == "ms" ? 0.001 : f[i + 1] == "s" ? 1 : f[i + 1] == "min" ? 60 : 3600
-                     t += f[i] * unit
-                 }
-                 print t }'
+        awk -f "$here/scripts/done_seconds.awk"
 }
 cycles() { # output name, samples, seed; prints the render time in seconds
     "$blender" -b --factory-startup --python "$here/scripts/cycles_cornell.py" -- \

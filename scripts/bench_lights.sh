@@ -31,8 +31,7 @@ trap 'rm -rf "$out"' EXIT
 render() { # scene, output name, then -D definitions; prints the render time in seconds
     local scene="$1" name="$2"; shift 2
     "$build/nori" --no-progress -D integrator=path_mis -D size="$size" "$@" "$scene" -o "$out/$name.exr" 2>&1 |
-        sed -nE 's/^Done in ([0-9.]+) (m?s).*/\1 \2/p' |
-        awk '{ print ($2 == "ms") ? $1 / 1000 : $1 }'
+        awk -f "$here/scripts/done_seconds.awk"
 }
 error() { # image; prints its MSE or relMSE (by $metric) against the reference
     "$build/nori-imgtool" diff "$1" "$out/reference.exr" |

@@ -19,8 +19,7 @@ scene="$here/scenes/media/cloud.xml"
 render() { # name, then -D definitions; prints the render time in seconds
     local name="$1"; shift
     "$build/nori" -D size=$size "$@" "$scene" -o "$out/$name.exr" 2>&1 |
-        sed -nE 's/^Done in ([0-9.]+) (m?s).*/\1 \2/p' |
-        awk '{ print ($2 == "ms") ? $1 / 1000 : $1 }'
+        awk -f "$here/scripts/done_seconds.awk"
 }
 rmse() { "$build/nori-imgtool" diff "$1" "$out/reference.exr" | awk '/^rmse/ { print $2 }'; }
 
