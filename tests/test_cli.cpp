@@ -215,7 +215,7 @@ TEST_CASE("Ctrl-C is honoured within a pixel, even at 10^9 samples per pixel", "
     CHECK_THAT(result.output, Contains("Interrupted"));
 }
 
-TEST_CASE("The exposure option brightens the PNG by 2^E and leaves the EXR alone; version",
+TEST_CASE("The exposure option brightens the PNG by 2^E and leaves the EXR alone, and --version",
           "[cli]") {
     TempDir dir;
     dir.write("meshes/floor.obj", kFloor);

@@ -118,7 +118,7 @@ TEST_CASE("A direction sampled in a texel reads back as that texel, edges and po
         }
 }
 
-TEST_CASE("Environment map direction sampling passes chi-square; forgetting sin(theta) fails",
+TEST_CASE("Environment map direction sampling passes chi-square, forgetting sin(theta) fails",
           "[envmap][chi2]") {
     TempDir dir;
     const std::vector<std::pair<std::string, std::string>> maps = {

@@ -317,7 +317,7 @@ TEST_CASE("glTF materials become the disney BSDF the same parameters give in XML
             false);
 }
 
-TEST_CASE("glTF emission is an area light; textures keep their orientation and sRGB",
+TEST_CASE("glTF emission is an area light, its textures keep their orientation and sRGB",
           "[shape][gltf][render]") {
     TempDir folder;
     AssetWriter asset = quadAsset();

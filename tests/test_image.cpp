@@ -92,7 +92,7 @@ TEST_CASE("An image block reproduces a constant image with any filter", "[filter
     }
 }
 
-TEST_CASE("EXR files round-trip exactly; PNG within 8-bit quantisation", "[image]") {
+TEST_CASE("EXR files round-trip exactly, PNG within 8-bit quantisation", "[image]") {
     TempDir dir;
     Bitmap image(Eigen::Vector2i(5, 3));
     for (int y = 0; y < 3; ++y)

@@ -73,7 +73,7 @@ TEST_CASE("OBJ: vertex normals decide the front side, whatever the winding", "[o
     CHECK(plain->sampleSurface(Point2f(0.5f, 0.5f)).n.isApprox(Normal3f(0, 0, 1)));
 }
 
-TEST_CASE("OBJ: quads and convex polygons become fans; corners are shared", "[obj]") {
+TEST_CASE("OBJ: quads and convex polygons become fans sharing their corners", "[obj]") {
     TempDir dir;
     auto quad = loadObj(dir, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
     CHECK(quad->getPrimitiveCount() == 2);

@@ -232,7 +232,7 @@ TEST_CASE("The filtered checkerboard is exact for points and fades to its mean",
     CHECK(checker->eval(q).x() == Approx(0.5f).margin(1e-5));
 }
 
-TEST_CASE("Textures bind to parameters by name; misspelled or misplaced ones are errors",
+TEST_CASE("Textures bind to parameters by name, misspelled or misplaced ones are errors",
           "[texture][parser]") {
     auto bsdf = std::dynamic_pointer_cast<BSDF>(loadFromXMLString(R"(<bsdf type="diffuse">
         <texture type="checkerboard" name="albedo"><color name="color0" value="0.8"/>
