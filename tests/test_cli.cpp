@@ -77,17 +77,11 @@ TEST_CASE("nori renders a scene to EXR and PNG next to it", "[cli]") {
             REQUIRE(run.exitCode == 0);
             return Bitmap::load(out + ".exr");
         };
-        const auto same = [](const Bitmap &a, const Bitmap &b) {
-            for (Eigen::Index i = 0; i < a.size(); ++i)
-                if ((a(i) != b(i)).any())
-                    return false;
-            return a.size() == b.size();
-        };
         const Bitmap first = render("7", "seed7"), again = render("7", "seed7-again");
         const Bitmap other = render("8", "seed8");
-        CHECK(same(first, again));
-        CHECK(!same(first, other));
-        CHECK(!same(first, image)); // the scene's own seed, 0
+        CHECK(nori::testing::identicalImages(first, again));
+        CHECK(!nori::testing::identicalImages(first, other));
+        CHECK(!nori::testing::identicalImages(first, image)); // the scene's own seed, 0
     }
 
     SECTION("a -D that the scene never uses is a warning naming it") {

@@ -93,7 +93,8 @@ private:
             if (image.bufferView >= 0) {
                 // keepEncodedImage left these bytes to us: tinygltf hands over a buffer
                 // view's bytes without checking the view against its buffer.
-                const auto [bytes, stride] = bufferView(image.bufferView, 0, 0, 1, "an image");
+                const unsigned char *bytes =
+                    bufferView(image.bufferView, 0, 0, 1, "an image").first;
                 const size_t size = m_model.bufferViews[size_t(image.bufferView)].byteLength;
                 out.bytes.assign(bytes, bytes + size);
             } else {
