@@ -1,0 +1,179 @@
+// nori-make-ply-scene DIR [--meshes N] [--triangles T] [--instances I]: writes a
+// pbrt-v4 scene of the kind real scenes are (pbrt-v4's crown: 3.5 M triangles in 786 PLY
+// files), for the loading and memory figures of scripts/bench_pbrt.sh:
+//   DIR/meshes/blob-NNNN.ply  N binary PLY files of T triangles in all, each a bumpy
+//                             sphere of its own bumps, with vertex normals and uvs;
+//   DIR/plys.pbrt             the N meshes side by side on a grid, each placed once;
+//   DIR/instances.pbrt        I instances of the N meshes (ObjectBegin / ObjectInstance),
+//                             written only with --instances.
+// Both scenes: a diffuse grey material, a distant light and an infinite light, a camera
+// looking down at the grid, pbrt-v4's `path` integrator at 1 spp, 640×480.
+#include "app/cli.h"
+#include <nori/meshdata.h>
+#include <nori/pcg32.h>
+#include <nori/plyfile.h>
+#include <nori/strutil.h>
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+using namespace nori;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A sphere of radius ~0.4 with bumps r = 0.4·(1 + a·sin(fθ·θ)·sin(fφ·φ)), the amplitude
+/// and frequencies drawn from `seed`: a latitude–longitude grid of `rings` rings and
+/// 2·rings columns, the seam's vertices repeated so that u runs from 0 to 1. Normals are
+/// the unit sphere's (smooth shading); uv are (φ/2π, θ/π).
+MeshData bumpySphere(int rings, uint64_t seed) {
+    PCG32 generator(seed, 7);
+    const float amplitude = 0.02f + 0.08f * generator.nextFloat();
+    const float thetaFrequency = std::floor(4.0f + 12.0f * generator.nextFloat());
+    const float phiFrequency = std::floor(4.0f + 12.0f * generator.nextFloat());
+    const int columns = 2 * rings;
+    MeshData mesh;
+    for (int ring = 0; ring <= rings; ++ring)
+        for (int column = 0; column <= columns; ++column) {
+            const float theta = kPi * static_cast<float>(ring) / static_cast<float>(rings);
+            const float phi = 2.0f * kPi * static_cast<float>(column) / static_cast<float>(columns);
+            const Vector3f direction(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                     std::sin(theta) * std::sin(phi));
+            const float r =
+                0.4f * (1.0f + amplitude * std::sin(thetaFrequency * theta) *
+                                   std::sin(phiFrequency * phi));
+            mesh.positions.emplace_back(r * direction);
+            mesh.normals.emplace_back(direction);
+            mesh.texCoords.emplace_back(static_cast<float>(column) / static_cast<float>(columns),
+                                        static_cast<float>(ring) / static_cast<float>(rings));
+        }
+    auto index = [columns](int ring, int column) { return ring * (columns + 1) + column; };
+    for (int ring = 0; ring < rings; ++ring)
+        for (int column = 0; column < columns; ++column) {
+            // The poles' rows hold one triangle a column, the others two.
+            if (ring > 0)
+                mesh.triangles.emplace_back(index(ring, column), index(ring, column + 1),
+                                            index(ring + 1, column + 1));
+            if (ring + 1 < rings)
+                mesh.triangles.emplace_back(index(ring, column), index(ring + 1, column + 1),
+                                            index(ring + 1, column));
+        }
+    return mesh;
+}
+
+/// The header of both scenes: camera above the grid of `side` × `side` cells looking
+/// down at its centre, film, sampler, integrator, lights, material.
+std::string sceneHeader(int side, const std::string &film) {
+    const float extent = static_cast<float>(side);
+    return fmt::format(
+        "# Written by nori-make-ply-scene.\n"
+        "LookAt {0} {1} {2}  {0} 0 {0}  0 1 0\n"
+        "Camera \"perspective\" \"float fov\" [45]\n"
+        "Film \"rgb\" \"string filename\" [\"{3}\"]\n"
+        "    \"integer xresolution\" [640] \"integer yresolution\" [480]\n"
+        "Sampler \"zsobol\" \"integer pixelsamples\" [1]\n"
+        "Integrator \"path\" \"integer maxdepth\" [5]\n"
+        "WorldBegin\n"
+        "LightSource \"distant\" \"point3 from\" [1 4 2] \"point3 to\" [0 0 0]\n"
+        "    \"rgb L\" [2 2 1.8]\n"
+        "LightSource \"infinite\" \"rgb L\" [0.3 0.35 0.45]\n"
+        "Material \"diffuse\" \"rgb reflectance\" [0.6 0.6 0.6]\n",
+        0.5f * extent, 1.1f * extent, -0.35f * extent, film);
+}
+
+struct Arguments {
+    std::string directory;
+    int meshes = 256;
+    size_t triangles = 2000000;
+    size_t instances = 0;
+};
+
+int run(const Arguments &arguments) {
+    if (arguments.meshes <= 0 || arguments.triangles < 8 * static_cast<size_t>(arguments.meshes))
+        throw NoriException("--meshes must be positive and --triangles at least 8 a mesh");
+    const fs::path directory(arguments.directory);
+    fs::create_directories(directory / "meshes");
+    // 2·C·(R − 1) triangles a sphere with C = 2R columns: R from the share of each mesh.
+    const double perMesh = static_cast<double>(arguments.triangles) / arguments.meshes;
+    const int rings = std::max(2, static_cast<int>(std::lround(0.5 + 0.5 * std::sqrt(1.0 + perMesh))));
+    std::vector<std::string> names(static_cast<size_t>(arguments.meshes));
+    std::vector<size_t> counts(names.size());
+    tbb::parallel_for(size_t(0), names.size(), [&](size_t i) {
+        names[i] = fmt::format("meshes/blob-{:04}.ply", i);
+        const MeshData mesh = bumpySphere(rings, i);
+        counts[i] = mesh.triangles.size();
+        writePLY((directory / names[i]).string(), mesh);
+    });
+    size_t total = 0;
+    for (size_t count : counts)
+        total += count;
+
+    // One mesh a cell of a square grid, each placed once.
+    const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(names.size()))));
+    {
+        std::ofstream out(directory / "plys.pbrt");
+        out << sceneHeader(side, "plys.exr");
+        for (size_t i = 0; i < names.size(); ++i)
+            out << fmt::format("AttributeBegin\n  Translate {} 0.4 {}\n"
+                               "  Shape \"plymesh\" \"string filename\" [\"{}\"]\nAttributeEnd\n",
+                               static_cast<float>(i % side) + 0.5f,
+                               static_cast<float>(i / side) + 0.5f, names[i]);
+        if (!out)
+            throw NoriException("cannot write '{}'", (directory / "plys.pbrt").string());
+    }
+    std::cout << fmt::format("meshes {}\ntriangles {}\n", names.size(), total);
+    if (arguments.instances == 0)
+        return 0;
+
+    // The meshes as objects, instanced on a finer grid, each with its own rotation.
+    const int instanceSide =
+        static_cast<int>(std::ceil(std::sqrt(static_cast<double>(arguments.instances))));
+    const float cell = static_cast<float>(side) / static_cast<float>(instanceSide);
+    std::ofstream out(directory / "instances.pbrt");
+    out << sceneHeader(side, "instances.exr");
+    for (size_t i = 0; i < names.size(); ++i)
+        out << fmt::format("ObjectBegin \"blob{}\"\n  Shape \"plymesh\" \"string filename\" "
+                           "[\"{}\"]\nObjectEnd\n",
+                           i, names[i]);
+    PCG32 generator(arguments.instances, 11);
+    for (size_t i = 0; i < arguments.instances; ++i) {
+        const float scale = cell * (0.6f + 0.4f * generator.nextFloat());
+        out << fmt::format("AttributeBegin\n  Translate {} {} {}\n  Rotate {} 0 1 0\n"
+                           "  Scale {} {} {}\n  ObjectInstance \"blob{}\"\nAttributeEnd\n",
+                           cell * (static_cast<float>(i % instanceSide) + 0.5f), 0.4f * scale,
+                           cell * (static_cast<float>(i / instanceSide) + 0.5f),
+                           360.0f * generator.nextFloat(), scale, scale, scale, i % names.size());
+    }
+    if (!out)
+        throw NoriException("cannot write '{}'", (directory / "instances.pbrt").string());
+    std::cout << fmt::format("instances {}\ninstanced_triangles {}\n", arguments.instances,
+                             arguments.instances * (total / names.size()));
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+    Arguments arguments;
+    return runCommandLine(
+        argc, argv, "nori-make-ply-scene",
+        "Writes a pbrt-v4 scene of many binary PLY meshes (DIR/plys.pbrt), and with --instances "
+        "one that instances them (DIR/instances.pbrt), for loading and memory figures.",
+        [&](CLI::App &app) {
+            app.add_option("directory", arguments.directory, "where to write the scene")
+                ->type_name("DIR")
+                ->required();
+            app.add_option("--meshes", arguments.meshes, "PLY files (default 256)")->type_name("N");
+            app.add_option("--triangles", arguments.triangles,
+                           "triangles of all files together (default 2000000)")
+                ->type_name("T");
+            app.add_option("--instances", arguments.instances,
+                           "also write instances.pbrt with I instances (default: not)")
+                ->type_name("I");
+        },
+        [&](const CLI::App &) { return run(arguments); });
+}
