@@ -1,4 +1,5 @@
 #include <nori/filesystem.h>
+#include <nori/loadahead.h>
 #include <nori/parser.h>
 
 #include <filesystem/resolver.h>
@@ -290,6 +291,7 @@ public:
         {
             pugi::xml_document document;
             pugi::xml_node root = parseDocument(file, document);
+            startLoadsAhead(file, root);
             m_includeStack.push_back(canonicalPathOrSame(filename));
             parseElement(file, root, nullptr, nullptr, &result);
             m_includeStack.pop_back();
@@ -304,6 +306,7 @@ public:
         {
             pugi::xml_document document;
             pugi::xml_node root = parseDocument(file, document);
+            startLoadsAhead(file, root);
             parseElement(file, root, nullptr, nullptr, &result);
         }
         file.releaseText();
@@ -361,6 +364,36 @@ private:
         if (!root)
             throw LocatedError(file.location(0), "not an XML scene file: it has no root element");
         return root;
+    }
+
+    /// Starts reading the files that shapes below `root` will read (LoadAhead): helpers
+    /// decode them while the elements before them are built. Only a `type` and a
+    /// `filename` without $variables are followed; a $variable's value may change before
+    /// its element (a <default> further on), so that shape reads its file itself.
+    void startLoadsAhead(const SourceFile &file, const pugi::xml_node &root) {
+        // Depth first in document order (children pushed last first), the order in which
+        // the shapes will ask for their files.
+        std::vector<pugi::xml_node> stack{root};
+        while (!stack.empty()) {
+            const pugi::xml_node node = stack.back();
+            stack.pop_back();
+            for (pugi::xml_node child = node.last_child(); child; child = child.previous_sibling())
+                if (child.type() == pugi::node_element)
+                    stack.push_back(child);
+            const std::string type = node.attribute("type").value();
+            if (NoriObject::classTypeFromName(node.name()) != NoriObject::EMesh ||
+                type.find('$') != std::string::npos || !LoadAhead::hasReader(type))
+                continue;
+            const pugi::xml_node filename = node.find_child_by_attribute("string", "name", "filename");
+            const std::string value = filename.attribute("value").value();
+            if (value.empty() || value.find('$') != std::string::npos)
+                continue;
+            // As PropertyList::getPath resolves it, so that the shape asks for this path.
+            fs::path path(value);
+            if (path.is_relative() && !file.directory.empty())
+                path = fs::path(file.directory) / path;
+            m_loadAhead.start(type, path.lexically_normal().string());
+        }
     }
 
     /// Replaces every $name in an attribute value by its definition.
@@ -677,6 +710,7 @@ private:
             if (root.first_attribute())
                 throw LocatedError(included.location(root.offset_debug()),
                                    "the <scene> root of an included file takes no attributes");
+            startLoadsAhead(included, root);
             m_includeStack.push_back(canonical);
             parseChildren(included, root, &frame, nullptr);
             m_includeStack.pop_back();
@@ -763,6 +797,7 @@ private:
     std::vector<std::pair<std::string, std::string>> m_openIds; ///< (id, location) of open elements
     std::list<SourceFile> m_files; ///< kept alive: locations refer to them
     int m_depth = 0;               ///< of the element being parsed, across includes
+    LoadAhead m_loadAhead;         ///< the mesh files read ahead of their elements
 };
 
 } // namespace

@@ -36,6 +36,7 @@
  *       </texture>
  *   </mesh>
  */
+#include <nori/loadahead.h>
 #include <nori/mesh.h>
 #include <nori/objfile.h>
 #include <nori/shading.h>
@@ -53,7 +54,7 @@ public:
         const bool flipTexCoords = props.getBoolean("flipTexCoords", false);
         readSurfaceParameters(*this, props);
 
-        MeshData data = readOBJ(m_name);
+        MeshData data = LoadAhead::takeOrRead<MeshData>("obj", m_name, readOBJ);
         if (flipTexCoords)
             for (Point2f &uv : data.texCoords)
                 uv.y() = 1.0f - uv.y();
@@ -63,6 +64,7 @@ public:
 };
 
 NORI_REGISTER_CLASS(WavefrontOBJ, "obj");
+NORI_REGISTER_LOAD_AHEAD("obj", [](const std::string &path) { return std::any(readOBJ(path)); });
 
 } // namespace
 } // namespace nori

@@ -20,6 +20,7 @@
  *       <string name="filename" value="tests/data/meshes/quad.ply"/>
  *   </mesh>
  */
+#include <nori/loadahead.h>
 #include <nori/mesh.h>
 #include <nori/plyfile.h>
 #include <nori/shading.h>
@@ -35,12 +36,14 @@ public:
         const bool faceNormals = props.getBoolean("faceNormals", false);
         const bool flip = props.getBoolean("flipNormals", false);
         readSurfaceParameters(*this, props);
-        takeMeshData(readPLY(m_name), faceNormals, flip);
+        takeMeshData(LoadAhead::takeOrRead<MeshData>("ply", m_name, readPLY),
+                     faceNormals, flip);
         finishLoading(toWorld);
     }
 };
 
 NORI_REGISTER_CLASS(PlyShape, "ply");
+NORI_REGISTER_LOAD_AHEAD("ply", [](const std::string &path) { return std::any(readPLY(path)); });
 
 } // namespace
 } // namespace nori
