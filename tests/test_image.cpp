@@ -225,6 +225,36 @@ TEST_CASE("nori-imgtool diff prints the error metrics and exits 1 above the tole
     CHECK(outside.exitCode == 1);
     CHECK_THAT(outside.output, Catch::Contains("--crop 3,0,2,2 does not fit in the 4x2 images"));
 
+    // --exclude-above (and --exclude-rim): a light seen in the reference, and the pixels
+    // around it, leave the comparison; the error is the mean over the pixels kept.
+    Bitmap litReference = reference, litImage = image;
+    litReference(0, 0) = Color3f(10.0f);
+    litImage(0, 0) = Color3f(0.0f); // far off, but left out
+    const std::string litA = (dir.path() / "lit-a.exr").string(),
+                      litB = (dir.path() / "lit-b.exr").string();
+    litImage.saveEXR(litA);
+    litReference.saveEXR(litB);
+    auto excluding = [&](const std::string &rim) {
+        return nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", litA, litB, "--exclude-above",
+                                                              "5", "--exclude-rim", rim});
+    };
+    CHECK_THAT(excluding("0").output,
+               Catch::Contains(fmt::format("rmse {:.9g}\n", std::sqrt(0.25 / 21.0))) &&
+                   Catch::Contains("pixels 7\n") && Catch::Contains("maxabs 0.5\n"));
+    CHECK_THAT(excluding("1").output,
+               Catch::Contains(fmt::format("rmse {:.9g}\n", std::sqrt(0.25 / 12.0))) &&
+                   Catch::Contains("pixels 4\n"));
+    CHECK_THAT(excluding("2").output, Catch::Contains("rmse 0\n") && Catch::Contains("pixels 2\n"));
+    CHECK_THAT(nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", litA, litB}).output,
+               Catch::Contains("maxabs 10\n") && Catch::Contains("pixels 8\n"));
+    const auto negativeRim = excluding("-1");
+    CHECK(negativeRim.exitCode == 1);
+    CHECK_THAT(negativeRim.output, Catch::Contains("--exclude-rim must be 0 or more"));
+    const auto nothingLeft = nori::testing::runCommand(
+        IMGTOOL_EXECUTABLE, {"diff", litA, litB, "--exclude-above", "0.1"});
+    CHECK(nothingLeft.exitCode == 1);
+    CHECK_THAT(nothingLeft.output, Catch::Contains("leaves no pixel to compare"));
+
     Bitmap wide(Eigen::Vector2i(5, 2));
     const std::string c = (dir.path() / "c.exr").string();
     wide.saveEXR(c);

@@ -28,6 +28,8 @@ struct DiffOptions {
     std::vector<std::string> files;
     std::string layer, errorImage, metric = "relmse", crop;
     double tolerance = -1.0;
+    float excludeAbove = kInfinity; ///< reference values above this leave their pixel out
+    int excludeRim = 0;             ///< and the pixels this close to one (Chebyshev distance)
 };
 struct CompareOptions {
     std::vector<std::string> files, regions;
@@ -115,6 +117,35 @@ Bitmap cropForDiff(const Bitmap &image, const std::string &crop) {
     return region;
 }
 
+/// The pixels compared: those whose reference is at most `above` in every channel and no
+/// closer than `rim` pixels (in x and y) to one that is not (a light and its rim, whose
+/// noise is not the estimator's).
+Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> keptPixels(const Bitmap &reference,
+                                                              float above, int rim) {
+    const Eigen::Index rows = reference.rows(), cols = reference.cols();
+    Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> kept =
+        Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>::Constant(rows, cols, true);
+    for (Eigen::Index y = 0; y < rows; ++y)
+        for (Eigen::Index x = 0; x < cols; ++x)
+            if (reference(y, x).maxCoeff() > above)
+                kept.block(std::max<Eigen::Index>(0, y - rim), std::max<Eigen::Index>(0, x - rim),
+                           std::min<Eigen::Index>(rows, y + rim + 1) - std::max<Eigen::Index>(0, y - rim),
+                           std::min<Eigen::Index>(cols, x + rim + 1) - std::max<Eigen::Index>(0, x - rim))
+                    .setConstant(false);
+    return kept;
+}
+
+/// The kept pixels of `image` in one row, in reading order.
+Bitmap keptRow(const Bitmap &image, const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> &kept) {
+    Bitmap row(Eigen::Vector2i(static_cast<int>(kept.count()), 1));
+    Eigen::Index next = 0;
+    for (Eigen::Index y = 0; y < image.rows(); ++y)
+        for (Eigen::Index x = 0; x < image.cols(); ++x)
+            if (kept(y, x))
+                row(0, next++) = image(y, x);
+    return row;
+}
+
 /// The false-colour ramp black → red → yellow → white over t in [0, 1].
 Color3f falseColor(float t) {
     t = std::clamp(t, 0.0f, 1.0f) * 3.0f;
@@ -142,23 +173,36 @@ int diffCommand(const DiffOptions &options) {
         image = cropForDiff(image, crop);
         reference = cropForDiff(reference, crop);
     }
+    if (options.excludeRim < 0)
+        throw NoriException("diff: --exclude-rim must be 0 or more, got {}", options.excludeRim);
+    const auto kept = keptPixels(reference, options.excludeAbove, options.excludeRim);
+    if (!kept.any())
+        throw NoriException("diff: --exclude-above {} leaves no pixel to compare",
+                            options.excludeAbove);
 
     double maxAbs = 0.0, peak = 1.0;
     size_t differing = 0;
-    Eigen::ArrayXXf pixelError(image.rows(), image.cols());
+    Eigen::ArrayXXf pixelError = Eigen::ArrayXXf::Zero(image.rows(), image.cols());
     for (Eigen::Index y = 0; y < image.rows(); ++y)
         for (Eigen::Index x = 0; x < image.cols(); ++x) {
+            if (!kept(y, x))
+                continue;
             const Color3f difference = (image(y, x) - reference(y, x)).abs();
             maxAbs = std::max(maxAbs, double(difference.maxCoeff()));
             peak = std::max(peak, double(reference(y, x).maxCoeff()));
             differing += (difference > 0.0f).any() || image(y, x).hasNaN() ? 1 : 0;
             pixelError(y, x) = difference.mean();
         }
-    const double mse = meanSquaredError(image, reference);
-    const double relmse = relativeMeanSquaredError(image, reference);
+    // The means over the kept pixels: the same functions, on the kept pixels in a row.
+    const bool all = kept.all();
+    const double mse = all ? meanSquaredError(image, reference)
+                           : meanSquaredError(keptRow(image, kept), keptRow(reference, kept));
+    const double relmse =
+        all ? relativeMeanSquaredError(image, reference)
+            : relativeMeanSquaredError(keptRow(image, kept), keptRow(reference, kept));
     const double psnr = 10.0 * std::log10(peak * peak / mse); // +inf when equal
     fmt::print("rmse {:.9g}\nrelmse {:.9g}\nmaxabs {:.9g}\npsnr {:.6g}\npixels {}\ndiffering {}\n",
-               std::sqrt(mse), relmse, maxAbs, psnr, image.size(), differing);
+               std::sqrt(mse), relmse, maxAbs, psnr, kept.count(), differing);
     if (!errorImage.empty()) {
         Bitmap colors(Eigen::Vector2i(int(image.cols()), int(image.rows())));
         const float largest = pixelError.maxCoeff();
@@ -458,6 +502,14 @@ int main(int argc, char **argv) {
                     "--crop", diffOptions.crop,
                     "compare only the W×H pixels from column X, row Y (a region of interest)")
                 ->type_name("X,Y,W,H");
+            diff->add_option("--exclude-above", diffOptions.excludeAbove,
+                             "leave out the pixels whose reference exceeds V in a channel (a "
+                             "light seen directly)")
+                ->type_name("V");
+            diff->add_option("--exclude-rim", diffOptions.excludeRim,
+                             "with --exclude-above, also the pixels within R pixels of those "
+                             "(default 0)")
+                ->type_name("R");
             diff->add_option("--tolerance", diffOptions.tolerance,
                              "exit 1 when the metric exceeds T")
                 ->type_name("T");
