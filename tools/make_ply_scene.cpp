@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <utility>
 
 using namespace nori;
 namespace fs = std::filesystem;
@@ -85,6 +86,12 @@ std::string sceneHeader(int side, const std::string &film) {
         0.5f * extent, 1.1f * extent, -0.35f * extent, film);
 }
 
+/// The centre (x, z) of cell `i` of a grid `side` cells wide, cells of size 1.
+std::pair<float, float> cellCentre(size_t i, size_t side) {
+    const size_t row = i / side, column = i % side;
+    return {static_cast<float>(column) + 0.5f, static_cast<float>(row) + 0.5f};
+}
+
 struct Arguments {
     std::string directory;
     int meshes = 256;
@@ -117,11 +124,12 @@ int run(const Arguments &arguments) {
     {
         std::ofstream out(directory / "plys.pbrt");
         out << sceneHeader(side, "plys.exr");
-        for (size_t i = 0; i < names.size(); ++i)
+        for (size_t i = 0; i < names.size(); ++i) {
+            const auto [x, z] = cellCentre(i, static_cast<size_t>(side));
             out << fmt::format("AttributeBegin\n  Translate {} 0.4 {}\n"
                                "  Shape \"plymesh\" \"string filename\" [\"{}\"]\nAttributeEnd\n",
-                               static_cast<float>(i % side) + 0.5f,
-                               static_cast<float>(i / side) + 0.5f, names[i]);
+                               x, z, names[i]);
+        }
         if (!out)
             throw NoriException("cannot write '{}'", (directory / "plys.pbrt").string());
     }
@@ -142,11 +150,12 @@ int run(const Arguments &arguments) {
     PCG32 generator(arguments.instances, 11);
     for (size_t i = 0; i < arguments.instances; ++i) {
         const float scale = cell * (0.6f + 0.4f * generator.nextFloat());
+        const float angle = 360.0f * generator.nextFloat();
+        const auto [x, z] = cellCentre(i, static_cast<size_t>(instanceSide));
         out << fmt::format("AttributeBegin\n  Translate {} {} {}\n  Rotate {} 0 1 0\n"
                            "  Scale {} {} {}\n  ObjectInstance \"blob{}\"\nAttributeEnd\n",
-                           cell * (static_cast<float>(i % instanceSide) + 0.5f), 0.4f * scale,
-                           cell * (static_cast<float>(i / instanceSide) + 0.5f),
-                           360.0f * generator.nextFloat(), scale, scale, scale, i % names.size());
+                           cell * x, 0.4f * scale, cell * z, angle, scale, scale, scale,
+                           i % names.size());
     }
     if (!out)
         throw NoriException("cannot write '{}'", (directory / "instances.pbrt").string());
