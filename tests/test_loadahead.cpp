@@ -3,7 +3,9 @@
 #include <nori/loadahead.h>
 #include <nori/mesh.h>
 #include <nori/objfile.h>
+#include <nori/parallel.h>
 #include <nori/parser.h>
+#include <nori/pbrtimport.h>
 #include <nori/scene.h>
 
 #include "testutil.h"
@@ -158,4 +160,40 @@ TEST_CASE("A file read ahead reports its error when its shape is reached, not be
     </scene>)");
     CHECK_THAT(errorOf([&] { loadFromXML(second); }),
                Contains("broken.obj:2: vertex position needs 3 numbers, got 2"));
+}
+
+TEST_CASE("A pbrt-v4 scene of many PLY files is the same read ahead as read one by one",
+          "[loadahead][pbrt]") {
+    TempDir dir;
+    const auto made = nori::testing::runCommand(
+        MAKE_PLY_SCENE_EXECUTABLE,
+        {dir.path().string(), "--meshes", "24", "--triangles", "4800", "--instances", "60"});
+    INFO(made.output);
+    REQUIRE(made.exitCode == 0);
+    // One thread: no helpers, each shape reads its file itself; all: the helpers read.
+    auto load = [&](const std::string &file, int threads) {
+        std::shared_ptr<Scene> scene;
+        ThreadLimit(threads).run([&] {
+            pbrt::ConvertOptions options;
+            options.xmlDirectory = dir.path().string();
+            const pbrt::Conversion conversion =
+                pbrt::convertFile((dir.path() / file).string(), options);
+            scene = std::dynamic_pointer_cast<Scene>(
+                loadFromXMLString(conversion.xml, options.xmlDirectory));
+        });
+        REQUIRE(scene);
+        return scene;
+    };
+    for (const char *file : {"plys.pbrt", "instances.pbrt"}) {
+        INFO(file);
+        const auto serial = load(file, 1), ahead = load(file, 0);
+        CHECK(ahead->getBoundingBox().min == serial->getBoundingBox().min);
+        CHECK(ahead->getBoundingBox().max == serial->getBoundingBox().max);
+        REQUIRE(ahead->getMeshes().size() == serial->getMeshes().size());
+        for (size_t i = 0; i < ahead->getMeshes().size(); ++i) {
+            CHECK(ahead->getMeshes()[i]->getName() == serial->getMeshes()[i]->getName());
+            CHECK(ahead->getMeshes()[i]->positions() == serial->getMeshes()[i]->positions());
+        }
+    }
+    CHECK(load("plys.pbrt", 0)->getMeshes().size() == 24);
 }

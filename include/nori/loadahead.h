@@ -64,12 +64,15 @@ private:
     LoadAhead *m_outer; ///< the load ahead this one hides on this thread (nested loads)
 };
 
-/// Registers `reader` for the plugin `type` at start-up, beside NORI_REGISTER_CLASS (once
-/// a file, in its anonymous namespace).
+/// Registers `reader` for the plugin `type` at start-up, beside NORI_REGISTER_CLASS. (The
+/// variable's name is made unique with __COUNTER__: a unity build compiles several plugin
+/// files as one.)
 #define NORI_REGISTER_LOAD_AHEAD(type, reader)                                                   \
-    const bool loadAheadRegistered = [] {                                                        \
+    const bool NORI_LOAD_AHEAD_NAME(loadAheadRegistered, __COUNTER__) = [] {                     \
         ::nori::LoadAhead::registerReader(type, reader);                                         \
         return true;                                                                             \
     }()
+#define NORI_LOAD_AHEAD_NAME(prefix, counter) NORI_LOAD_AHEAD_PASTE(prefix, counter)
+#define NORI_LOAD_AHEAD_PASTE(prefix, counter) prefix##counter
 
 } // namespace nori
