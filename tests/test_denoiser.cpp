@@ -149,14 +149,16 @@ TEST_CASE("Denoising the Cornell box at 16 spp cuts the relMSE eightfold", "[den
     CHECK(blurred * 8.0 > noisy);
 }
 
-TEST_CASE("Denoising the textured scene at 16 spp cuts the relMSE 6.7-fold", "[denoiser]") {
-    // The goal: 1/8, missed. Reached: 1/6.72 (noisy 0.01723, denoised 0.00257); the
+TEST_CASE("Denoising the textured scene at 16 spp cuts the relMSE 6.3-fold", "[denoiser]") {
+    // The goal: 1/8, missed. Reached: 1/6.38 (noisy 0.01644, denoised 0.00258); the
     // oracle's choice among the filters reaches 1/13.1. Most of what is left is the
-    // mirror sphere's caustic on the floor and the lights it reflects.
+    // mirror sphere's caustic on the floor and the lights it reflects. (Until 2026-12-07
+    // 1/6.72: noisy 0.01723, denoised 0.00257. The Russian roulette of √throughput made
+    // the noisy render 4.6 % better and left the denoised one as it was.)
     const auto [noisy, denoised, blurred] = denoisedRender("textured", 16).errors();
     INFO("relMSE noisy " << noisy << ", denoised " << denoised << ", box-blurred " << blurred);
-    CHECK(denoised * 6.7 <= noisy);
-    CHECK(blurred * 6.7 > noisy);
+    CHECK(denoised * 6.3 <= noisy);
+    CHECK(blurred * 6.3 > noisy);
 }
 
 TEST_CASE("Denoising Veach's plates at 16 spp halves the relMSE outside the lights", "[denoiser]") {
