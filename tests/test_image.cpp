@@ -235,8 +235,8 @@ TEST_CASE("nori-imgtool diff prints the error metrics and exits 1 above the tole
     litImage.saveEXR(litA);
     litReference.saveEXR(litB);
     auto excluding = [&](const std::string &rim) {
-        return nori::testing::runCommand(IMGTOOL_EXECUTABLE, {"diff", litA, litB, "--exclude-above",
-                                                              "5", "--exclude-rim", rim});
+        return nori::testing::runCommand(
+            IMGTOOL_EXECUTABLE, {"diff", litA, litB, "--exclude-above", "5", "--exclude-rim", rim});
     };
     CHECK_THAT(excluding("0").output,
                Catch::Contains(fmt::format("rmse {:.9g}\n", std::sqrt(0.25 / 21.0))) &&

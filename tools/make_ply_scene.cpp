@@ -44,9 +44,8 @@ MeshData bumpySphere(int rings, uint64_t seed) {
             const float phi = 2.0f * kPi * static_cast<float>(column) / static_cast<float>(columns);
             const Vector3f direction(std::sin(theta) * std::cos(phi), std::cos(theta),
                                      std::sin(theta) * std::sin(phi));
-            const float r =
-                0.4f * (1.0f + amplitude * std::sin(thetaFrequency * theta) *
-                                   std::sin(phiFrequency * phi));
+            const float r = 0.4f * (1.0f + amplitude * std::sin(thetaFrequency * theta) *
+                                               std::sin(phiFrequency * phi));
             mesh.positions.emplace_back(r * direction);
             mesh.normals.emplace_back(direction);
             mesh.texCoords.emplace_back(static_cast<float>(column) / static_cast<float>(columns),
@@ -70,20 +69,19 @@ MeshData bumpySphere(int rings, uint64_t seed) {
 /// down at its centre, film, sampler, integrator, lights, material.
 std::string sceneHeader(int side, const std::string &film) {
     const float extent = static_cast<float>(side);
-    return fmt::format(
-        "# Written by nori-make-ply-scene.\n"
-        "LookAt {0} {1} {2}  {0} 0 {0}  0 1 0\n"
-        "Camera \"perspective\" \"float fov\" [45]\n"
-        "Film \"rgb\" \"string filename\" [\"{3}\"]\n"
-        "    \"integer xresolution\" [640] \"integer yresolution\" [480]\n"
-        "Sampler \"zsobol\" \"integer pixelsamples\" [1]\n"
-        "Integrator \"path\" \"integer maxdepth\" [5]\n"
-        "WorldBegin\n"
-        "LightSource \"distant\" \"point3 from\" [1 4 2] \"point3 to\" [0 0 0]\n"
-        "    \"rgb L\" [2 2 1.8]\n"
-        "LightSource \"infinite\" \"rgb L\" [0.3 0.35 0.45]\n"
-        "Material \"diffuse\" \"rgb reflectance\" [0.6 0.6 0.6]\n",
-        0.5f * extent, 1.1f * extent, -0.35f * extent, film);
+    return fmt::format("# Written by nori-make-ply-scene.\n"
+                       "LookAt {0} {1} {2}  {0} 0 {0}  0 1 0\n"
+                       "Camera \"perspective\" \"float fov\" [45]\n"
+                       "Film \"rgb\" \"string filename\" [\"{3}\"]\n"
+                       "    \"integer xresolution\" [640] \"integer yresolution\" [480]\n"
+                       "Sampler \"zsobol\" \"integer pixelsamples\" [1]\n"
+                       "Integrator \"path\" \"integer maxdepth\" [5]\n"
+                       "WorldBegin\n"
+                       "LightSource \"distant\" \"point3 from\" [1 4 2] \"point3 to\" [0 0 0]\n"
+                       "    \"rgb L\" [2 2 1.8]\n"
+                       "LightSource \"infinite\" \"rgb L\" [0.3 0.35 0.45]\n"
+                       "Material \"diffuse\" \"rgb reflectance\" [0.6 0.6 0.6]\n",
+                       0.5f * extent, 1.1f * extent, -0.35f * extent, film);
 }
 
 /// The centre (x, z) of cell `i` of a grid `side` cells wide, cells of size 1.
@@ -106,7 +104,8 @@ int run(const Arguments &arguments) {
     fs::create_directories(directory / "meshes");
     // 2·C·(R − 1) triangles a sphere with C = 2R columns: R from the share of each mesh.
     const double perMesh = static_cast<double>(arguments.triangles) / arguments.meshes;
-    const int rings = std::max(2, static_cast<int>(std::lround(0.5 + 0.5 * std::sqrt(1.0 + perMesh))));
+    const int rings =
+        std::max(2, static_cast<int>(std::lround(0.5 + 0.5 * std::sqrt(1.0 + perMesh))));
     std::vector<std::string> names(static_cast<size_t>(arguments.meshes));
     std::vector<size_t> counts(names.size());
     tbb::parallel_for(size_t(0), names.size(), [&](size_t i) {

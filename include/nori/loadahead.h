@@ -67,10 +67,10 @@ private:
 /// Registers `reader` for the plugin `type` at start-up, beside NORI_REGISTER_CLASS. (The
 /// variable's name is made unique with __COUNTER__: a unity build compiles several plugin
 /// files as one.)
-#define NORI_REGISTER_LOAD_AHEAD(type, reader)                                                   \
-    const bool NORI_LOAD_AHEAD_NAME(loadAheadRegistered, __COUNTER__) = [] {                     \
-        ::nori::LoadAhead::registerReader(type, reader);                                         \
-        return true;                                                                             \
+#define NORI_REGISTER_LOAD_AHEAD(type, reader)                                                     \
+    const bool NORI_LOAD_AHEAD_NAME(loadAheadRegistered, __COUNTER__) = [] {                       \
+        ::nori::LoadAhead::registerReader(type, reader);                                           \
+        return true;                                                                               \
     }()
 #define NORI_LOAD_AHEAD_NAME(prefix, counter) NORI_LOAD_AHEAD_PASTE(prefix, counter)
 #define NORI_LOAD_AHEAD_PASTE(prefix, counter) prefix##counter

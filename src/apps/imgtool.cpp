@@ -120,23 +120,28 @@ Bitmap cropForDiff(const Bitmap &image, const std::string &crop) {
 /// The pixels compared: those whose reference is at most `above` in every channel and no
 /// closer than `rim` pixels (in x and y) to one that is not (a light and its rim, whose
 /// noise is not the estimator's).
-Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> keptPixels(const Bitmap &reference,
-                                                              float above, int rim) {
+Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> keptPixels(const Bitmap &reference, float above,
+                                                              int rim) {
     const Eigen::Index rows = reference.rows(), cols = reference.cols();
     Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> kept =
         Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>::Constant(rows, cols, true);
     for (Eigen::Index y = 0; y < rows; ++y)
-        for (Eigen::Index x = 0; x < cols; ++x)
-            if (reference(y, x).maxCoeff() > above)
-                kept.block(std::max<Eigen::Index>(0, y - rim), std::max<Eigen::Index>(0, x - rim),
-                           std::min<Eigen::Index>(rows, y + rim + 1) - std::max<Eigen::Index>(0, y - rim),
-                           std::min<Eigen::Index>(cols, x + rim + 1) - std::max<Eigen::Index>(0, x - rim))
-                    .setConstant(false);
+        for (Eigen::Index x = 0; x < cols; ++x) {
+            if (!(reference(y, x).maxCoeff() > above))
+                continue;
+            // The square of side 2·rim + 1 about (x, y), clipped to the image.
+            const Eigen::Index top = std::max<Eigen::Index>(0, y - rim),
+                               bottom = std::min<Eigen::Index>(rows, y + rim + 1),
+                               left = std::max<Eigen::Index>(0, x - rim),
+                               right = std::min<Eigen::Index>(cols, x + rim + 1);
+            kept.block(top, left, bottom - top, right - left).setConstant(false);
+        }
     return kept;
 }
 
 /// The kept pixels of `image` in one row, in reading order.
-Bitmap keptRow(const Bitmap &image, const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> &kept) {
+Bitmap keptRow(const Bitmap &image,
+               const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> &kept) {
     Bitmap row(Eigen::Vector2i(static_cast<int>(kept.count()), 1));
     Eigen::Index next = 0;
     for (Eigen::Index y = 0; y < image.rows(); ++y)

@@ -42,7 +42,7 @@ struct LoadAhead::State {
     std::deque<Read> reads;          ///< stable addresses: a deque only grows at its end
     /// The reads not yet taken, by (plugin type, path); a file named twice has two.
     std::multimap<std::pair<std::string, std::string>, Read *> untaken;
-    size_t nextWaiting = 0;          ///< no read before this index is waiting
+    size_t nextWaiting = 0; ///< no read before this index is waiting
     bool closing = false;
     std::vector<std::thread> helpers;
     size_t helperLimit = 0;
@@ -89,7 +89,9 @@ void LoadAhead::registerReader(const std::string &pluginType, Reader reader) {
     readers()[pluginType] = std::move(reader);
 }
 
-bool LoadAhead::hasReader(const std::string &pluginType) { return readers().count(pluginType) > 0; }
+bool LoadAhead::hasReader(const std::string &pluginType) {
+    return readers().count(pluginType) > 0;
+}
 
 LoadAhead::LoadAhead() : m_state(std::make_unique<State>()), m_outer(t_current) {
     m_state->helperLimit = static_cast<size_t>(std::max(0, maxParallelism() - 1));
@@ -129,8 +131,7 @@ void LoadAhead::start(const std::string &pluginType, const std::string &path) {
     state.changed.notify_one();
 }
 
-std::optional<std::any> LoadAhead::takeAny(const std::string &pluginType,
-                                           const std::string &path) {
+std::optional<std::any> LoadAhead::takeAny(const std::string &pluginType, const std::string &path) {
     if (!t_current)
         return std::nullopt;
     State &state = *t_current->m_state;

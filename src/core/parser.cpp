@@ -384,7 +384,8 @@ private:
             if (NoriObject::classTypeFromName(node.name()) != NoriObject::EMesh ||
                 type.find('$') != std::string::npos || !LoadAhead::hasReader(type))
                 continue;
-            const pugi::xml_node filename = node.find_child_by_attribute("string", "name", "filename");
+            const pugi::xml_node filename =
+                node.find_child_by_attribute("string", "name", "filename");
             const std::string value = filename.attribute("value").value();
             if (value.empty() || value.find('$') != std::string::npos)
                 continue;

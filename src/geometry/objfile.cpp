@@ -71,7 +71,8 @@ private:
     /// it or says what is wrong.
     float toNumber(std::string_view field, const char *what) const {
         float value = 0.0f;
-        const auto [next, error] = std::from_chars(field.data(), field.data() + field.size(), value);
+        const auto [next, error] =
+            std::from_chars(field.data(), field.data() + field.size(), value);
         if (error == std::errc() && next == field.data() + field.size())
             return value;
         try {
@@ -94,7 +95,8 @@ private:
     /// A 1-based index, or negative relative to the end; returns a 0-based index.
     int resolveIndex(std::string_view field, size_t available, const char *what) const {
         int index = 0;
-        const auto [next, error] = std::from_chars(field.data(), field.data() + field.size(), index);
+        const auto [next, error] =
+            std::from_chars(field.data(), field.data() + field.size(), index);
         if (error != std::errc() || next != field.data() + field.size()) {
             try { // what from_chars does not read ("+3"), toInt reads or explains
                 index = toInt(std::string(field), what);
@@ -117,9 +119,8 @@ private:
             const size_t slash = field.find('/', start);
             if (partCount == 3)
                 fail(fmt::format("malformed face vertex '{}'", field));
-            parts[partCount++] = field.substr(start, slash == std::string_view::npos
-                                                         ? std::string_view::npos
-                                                         : slash - start);
+            parts[partCount++] = field.substr(
+                start, slash == std::string_view::npos ? std::string_view::npos : slash - start);
             if (slash == std::string_view::npos)
                 break;
             start = slash + 1;
@@ -194,9 +195,9 @@ private:
     std::vector<Point3f> m_positions;
     std::vector<Point2f> m_texCoords;
     std::vector<Normal3f> m_normals;
-    std::vector<Corner> m_corners;   ///< unique face corners, one per output vertex
-    std::vector<int> m_firstCorner;  ///< per position: its latest corner, or -1
-    std::vector<int> m_nextCorner;   ///< per corner: the position's previous corner, or -1
+    std::vector<Corner> m_corners;     ///< unique face corners, one per output vertex
+    std::vector<int> m_firstCorner;    ///< per position: its latest corner, or -1
+    std::vector<int> m_nextCorner;     ///< per corner: the position's previous corner, or -1
     std::vector<Vector3i> m_triangles; ///< indices into m_corners
 };
 

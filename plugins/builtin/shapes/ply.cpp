@@ -36,8 +36,7 @@ public:
         const bool faceNormals = props.getBoolean("faceNormals", false);
         const bool flip = props.getBoolean("flipNormals", false);
         readSurfaceParameters(*this, props);
-        takeMeshData(LoadAhead::takeOrRead<MeshData>("ply", m_name, readPLY),
-                     faceNormals, flip);
+        takeMeshData(LoadAhead::takeOrRead<MeshData>("ply", m_name, readPLY), faceNormals, flip);
         finishLoading(toWorld);
     }
 };
