@@ -10,12 +10,9 @@ import time
 
 if __name__ == "__main__":
     # A module for the two scripts; run alone (outside Blender), it prints the comment above.
-    with open(__file__) as source:
-        for line in source:
-            if not line.startswith("#"):
-                break
-            print(line[2:].rstrip())
-    sys.exit(0)
+    from script_help import exit_with_help
+
+    exit_with_help(__file__, always=True)
 
 import bpy  # noqa: E402 (after the help, which needs no Blender)
 

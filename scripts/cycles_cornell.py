@@ -12,16 +12,12 @@
 import os
 import sys
 
-if __name__ == "__main__" and sys.argv[1:2] in (["-h"], ["--help"]):
-    # Outside Blender: the comment above is the help.
-    with open(__file__) as source:
-        for line in source:
-            if not line.startswith("#"):
-                break
-            print(line[2:].rstrip())
-    sys.exit(0)
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_help import exit_with_help  # noqa: E402
+
+if __name__ == "__main__":
+    exit_with_help(__file__)  # outside Blender: the comment above is the help
+
 import bpy  # noqa: E402 (after the help, which needs no Blender)
 import cycles_common as box  # noqa: E402
 
