@@ -1,14 +1,19 @@
-// nori-make-ply-scene DIR [--meshes N] [--triangles T] [--instances I]: writes a
-// pbrt-v4 scene of the kind real scenes are (pbrt-v4's crown: 3.5 M triangles in 786 PLY
-// files), for the loading and memory figures of scripts/bench_pbrt.sh:
+// nori-make-ply-scene DIR [--meshes N] [--triangles T] [--instances I] [--textures K]
+//                    [--texture-size S]: writes a pbrt-v4 scene of the kind real scenes
+// are (pbrt-v4's crown: 3.5 M triangles in 786 PLY files), for the loading and memory
+// figures of scripts/bench_pbrt.sh:
 //   DIR/meshes/blob-NNNN.ply  N binary PLY files of T triangles in all, each a bumpy
 //                             sphere of its own bumps, with vertex normals and uvs;
+//   DIR/textures/tex-NNNN.png K PNG images of S×S pixels (default 512), each stripes of
+//                             its own colours and frequency, written only with --textures;
 //   DIR/plys.pbrt             the N meshes side by side on a grid, each placed once;
 //   DIR/instances.pbrt        I instances of the N meshes (ObjectBegin / ObjectInstance),
 //                             written only with --instances.
-// Both scenes: a diffuse grey material, a distant light and an infinite light, a camera
-// looking down at the grid, pbrt-v4's `path` integrator at 1 spp, 640×480.
+// Both scenes: a diffuse material, grey or (with --textures) mesh i textured by image
+// i mod K, a distant light and an infinite light, a camera looking down at the grid,
+// pbrt-v4's `path` integrator at 1 spp, 640×480.
 #include "app/cli.h"
+#include <nori/bitmap.h>
 #include <nori/meshdata.h>
 #include <nori/pcg32.h>
 #include <nori/plyfile.h>
@@ -67,21 +72,51 @@ MeshData bumpySphere(int rings, uint64_t seed) {
 
 /// The header of both scenes: camera above the grid of `side` × `side` cells looking
 /// down at its centre, film, sampler, integrator, lights, material.
-std::string sceneHeader(int side, const std::string &film) {
+/// Texture `index`: diagonal stripes between two colours of its own, `size` pixels square.
+Bitmap stripes(int size, uint64_t index) {
+    PCG32 generator(index, 13);
+    const Color3f a(generator.nextFloat(), generator.nextFloat(), generator.nextFloat());
+    const Color3f b(generator.nextFloat(), generator.nextFloat(), generator.nextFloat());
+    const float frequency = 2.0f * kPi * std::floor(2.0f + 14.0f * generator.nextFloat());
+    Bitmap image(Eigen::Vector2i(size, size));
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const float t = 0.5f + 0.5f * std::sin(frequency * static_cast<float>(x + y) /
+                                                   static_cast<float>(size));
+            image(y, x) = a * t + b * (1.0f - t);
+        }
+    return image;
+}
+
+/// The material of mesh `mesh`: grey, or its texture's name as the reflectance.
+std::string material(size_t mesh, size_t textures) {
+    if (textures == 0)
+        return "";
+    return fmt::format("  Material \"diffuse\" \"texture reflectance\" \"tex{}\"\n",
+                       mesh % textures);
+}
+
+std::string sceneHeader(int side, const std::string &film, size_t textures) {
     const float extent = static_cast<float>(side);
-    return fmt::format("# Written by nori-make-ply-scene.\n"
-                       "LookAt {0} {1} {2}  {0} 0 {0}  0 1 0\n"
-                       "Camera \"perspective\" \"float fov\" [45]\n"
-                       "Film \"rgb\" \"string filename\" [\"{3}\"]\n"
-                       "    \"integer xresolution\" [640] \"integer yresolution\" [480]\n"
-                       "Sampler \"zsobol\" \"integer pixelsamples\" [1]\n"
-                       "Integrator \"path\" \"integer maxdepth\" [5]\n"
-                       "WorldBegin\n"
-                       "LightSource \"distant\" \"point3 from\" [1 4 2] \"point3 to\" [0 0 0]\n"
-                       "    \"rgb L\" [2 2 1.8]\n"
-                       "LightSource \"infinite\" \"rgb L\" [0.3 0.35 0.45]\n"
-                       "Material \"diffuse\" \"rgb reflectance\" [0.6 0.6 0.6]\n",
-                       0.5f * extent, 1.1f * extent, -0.35f * extent, film);
+    std::string header =
+        fmt::format("# Written by nori-make-ply-scene.\n"
+                    "LookAt {0} {1} {2}  {0} 0 {0}  0 1 0\n"
+                    "Camera \"perspective\" \"float fov\" [45]\n"
+                    "Film \"rgb\" \"string filename\" [\"{3}\"]\n"
+                    "    \"integer xresolution\" [640] \"integer yresolution\" [480]\n"
+                    "Sampler \"zsobol\" \"integer pixelsamples\" [1]\n"
+                    "Integrator \"path\" \"integer maxdepth\" [5]\n"
+                    "WorldBegin\n"
+                    "LightSource \"distant\" \"point3 from\" [1 4 2] \"point3 to\" [0 0 0]\n"
+                    "    \"rgb L\" [2 2 1.8]\n"
+                    "LightSource \"infinite\" \"rgb L\" [0.3 0.35 0.45]\n"
+                    "Material \"diffuse\" \"rgb reflectance\" [0.6 0.6 0.6]\n",
+                    0.5f * extent, 1.1f * extent, -0.35f * extent, film);
+    for (size_t i = 0; i < textures; ++i)
+        header += fmt::format("Texture \"tex{0}\" \"spectrum\" \"imagemap\" \"string filename\" "
+                              "[\"textures/tex-{0:04}.png\"]\n",
+                              i);
+    return header;
 }
 
 /// The centre (x, z) of cell `i` of a grid `side` cells wide, cells of size 1.
@@ -95,11 +130,15 @@ struct Arguments {
     int meshes = 256;
     size_t triangles = 2000000;
     size_t instances = 0;
+    size_t textures = 0;
+    int textureSize = 512;
 };
 
 int run(const Arguments &arguments) {
     if (arguments.meshes <= 0 || arguments.triangles < 8 * static_cast<size_t>(arguments.meshes))
         throw NoriException("--meshes must be positive and --triangles at least 8 a mesh");
+    if (arguments.textureSize < 1 || arguments.textureSize > 16384)
+        throw NoriException("--texture-size must be in [1, 16384], got {}", arguments.textureSize);
     const fs::path directory(arguments.directory);
     fs::create_directories(directory / "meshes");
     // 2·C·(R − 1) triangles a sphere with C = 2R columns: R from the share of each mesh.
@@ -117,22 +156,30 @@ int run(const Arguments &arguments) {
     size_t total = 0;
     for (size_t count : counts)
         total += count;
+    if (arguments.textures > 0) {
+        fs::create_directories(directory / "textures");
+        tbb::parallel_for(size_t(0), arguments.textures, [&](size_t i) {
+            stripes(arguments.textureSize, i)
+                .savePNG((directory / fmt::format("textures/tex-{:04}.png", i)).string());
+        });
+    }
 
     // One mesh a cell of a square grid, each placed once.
     const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(names.size()))));
     {
         std::ofstream out(directory / "plys.pbrt");
-        out << sceneHeader(side, "plys.exr");
+        out << sceneHeader(side, "plys.exr", arguments.textures);
         for (size_t i = 0; i < names.size(); ++i) {
             const auto [x, z] = cellCentre(i, static_cast<size_t>(side));
-            out << fmt::format("AttributeBegin\n  Translate {} 0.4 {}\n"
+            out << fmt::format("AttributeBegin\n  Translate {} 0.4 {}\n{}"
                                "  Shape \"plymesh\" \"string filename\" [\"{}\"]\nAttributeEnd\n",
-                               x, z, names[i]);
+                               x, z, material(i, arguments.textures), names[i]);
         }
         if (!out)
             throw NoriException("cannot write '{}'", (directory / "plys.pbrt").string());
     }
-    std::cout << fmt::format("meshes {}\ntriangles {}\n", names.size(), total);
+    std::cout << fmt::format("meshes {}\ntriangles {}\ntextures {}\n", names.size(), total,
+                             arguments.textures);
     if (arguments.instances == 0)
         return 0;
 
@@ -141,11 +188,11 @@ int run(const Arguments &arguments) {
         static_cast<int>(std::ceil(std::sqrt(static_cast<double>(arguments.instances))));
     const float cell = static_cast<float>(side) / static_cast<float>(instanceSide);
     std::ofstream out(directory / "instances.pbrt");
-    out << sceneHeader(side, "instances.exr");
+    out << sceneHeader(side, "instances.exr", arguments.textures);
     for (size_t i = 0; i < names.size(); ++i)
-        out << fmt::format("ObjectBegin \"blob{}\"\n  Shape \"plymesh\" \"string filename\" "
+        out << fmt::format("ObjectBegin \"blob{}\"\n{}  Shape \"plymesh\" \"string filename\" "
                            "[\"{}\"]\nObjectEnd\n",
-                           i, names[i]);
+                           i, material(i, arguments.textures), names[i]);
     PCG32 generator(arguments.instances, 11);
     for (size_t i = 0; i < arguments.instances; ++i) {
         const float scale = cell * (0.6f + 0.4f * generator.nextFloat());
@@ -170,7 +217,8 @@ int main(int argc, char **argv) {
     return runCommandLine(
         argc, argv, "nori-make-ply-scene",
         "Writes a pbrt-v4 scene of many binary PLY meshes (DIR/plys.pbrt), and with --instances "
-        "one that instances them (DIR/instances.pbrt), for loading and memory figures.",
+        "one that instances them (DIR/instances.pbrt), with --textures textured by PNG images, "
+        "for loading and memory figures.",
         [&](CLI::App &app) {
             app.add_option("directory", arguments.directory, "where to write the scene")
                 ->type_name("DIR")
@@ -182,6 +230,12 @@ int main(int argc, char **argv) {
             app.add_option("--instances", arguments.instances,
                            "also write instances.pbrt with I instances (default: not)")
                 ->type_name("I");
+            app.add_option("--textures", arguments.textures,
+                           "PNG textures, mesh i textured by image i mod K (default: none)")
+                ->type_name("K");
+            app.add_option("--texture-size", arguments.textureSize,
+                           "the textures' width and height in pixels (default 512)")
+                ->type_name("S");
         },
         [&](const CLI::App &) { return run(arguments); });
 }
