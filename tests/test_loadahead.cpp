@@ -1,5 +1,7 @@
 // Files read ahead while the parser builds the scene (LoadAhead): every read the parser
-// starts is the one its shape takes, in order, with the reader's errors as they were.
+// starts is the one its element takes, in order, with the reader's errors as they were.
+#include <nori/bitmap.h>
+#include <nori/imagefile.h>
 #include <nori/loadahead.h>
 #include <nori/mesh.h>
 #include <nori/objfile.h>
@@ -7,12 +9,15 @@
 #include <nori/parser.h>
 #include <nori/pbrtimport.h>
 #include <nori/scene.h>
+#include <nori/texture.h>
+#include <nori/texturecache.h>
 
 #include "testutil.h"
 
 #include <catch2/catch.hpp>
 
 #include <atomic>
+#include <filesystem>
 #include <mutex>
 #include <set>
 
@@ -35,6 +40,16 @@ const bool g_counterRegistered = [] {
     return true;
 }();
 
+/// The same, read ahead once per path.
+std::atomic<int> g_onceReads{0};
+NORI_REGISTER_READER(
+    "test_once",
+    [](const std::string &path) {
+        ++g_onceReads;
+        return std::any(path + "?");
+    },
+    LoadAhead::Sharing::PerPath);
+
 /// An OBJ mesh that says whether the parser had started reading its file: the paths the
 /// parser resolved are the ones shapes ask for.
 std::mutex g_takenMutex;
@@ -55,8 +70,36 @@ public:
 };
 
 NORI_REGISTER_CLASS(AheadMesh, "test_ahead_obj");
-NORI_REGISTER_LOAD_AHEAD("test_ahead_obj",
-                         [](const std::string &path) { return std::any(readOBJ(path)); });
+NORI_REGISTER_READER(
+    "test_ahead_obj", [](const std::string &path) { return std::any(readOBJ(path)); },
+    LoadAhead::Sharing::PerElement);
+NORI_REGISTER_LOAD_AHEAD(AheadMesh, "test_ahead_obj", "test_ahead_obj");
+
+/// A texture of one colour, its image's first pixel, that says whether the parser had
+/// started reading its image (with the reader of `image` textures and `envmap` lights).
+std::multiset<std::string> g_imagesTakenAhead, g_imagesReadHere;
+
+class AheadImage : public Texture {
+public:
+    explicit AheadImage(const PropertyList &props) {
+        const std::string path = props.getPath("filename");
+        std::optional<ImageFile> image = LoadAhead::take<ImageFile>(kTextureImageReader, path);
+        {
+            std::lock_guard<std::mutex> lock(g_takenMutex);
+            (image ? g_imagesTakenAhead : g_imagesReadHere).insert(path);
+        }
+        m_value = (image ? std::move(*image) : readImageFile(path)).pixels(0, 0);
+    }
+    Color3f eval(const TextureQuery &) const override { return m_value; }
+    Color3f average() const override { return m_value; }
+    std::string toString() const override { return "AheadImage[]"; }
+
+private:
+    Color3f m_value;
+};
+
+NORI_REGISTER_CLASS(AheadImage, "test_ahead_image");
+NORI_REGISTER_LOAD_AHEAD(AheadImage, "test_ahead_image", kTextureImageReader);
 
 std::string triangleObj(float z) {
     return fmt::format("v 0 0 {0}\nv 1 0 {0}\nv 0 1 {0}\nf 1 2 3\n", z);
@@ -93,6 +136,21 @@ TEST_CASE("LoadAhead hands each started read to one take, in order, errors inclu
     CHECK(g_reads - readsBefore >= 4);
     CHECK(g_reads - readsBefore <= 5);
     CHECK_FALSE(LoadAhead::take<std::string>("test_counter", "b")); // gone with its load
+
+    // A PerPath reader reads a file once, for the first take; a second take reads itself.
+    const int onceBefore = g_onceReads;
+    {
+        LoadAhead ahead;
+        ahead.start("test_once", "c");
+        ahead.start("test_once", "d");
+        ahead.start("test_once", "c");
+        CHECK(LoadAhead::take<std::string>("test_once", "c") == "c?");
+        CHECK(LoadAhead::take<std::string>("test_once", "d") == "d?");
+        CHECK_FALSE(LoadAhead::take<std::string>("test_once", "c"));
+        ahead.start("test_once", "c"); // started before: not again
+        CHECK_FALSE(LoadAhead::take<std::string>("test_once", "c"));
+    }
+    CHECK(g_onceReads - onceBefore == 2);
 }
 
 TEST_CASE("Shapes take the files the parser read ahead: relative, included, grouped, twice",
@@ -138,6 +196,77 @@ TEST_CASE("Shapes take the files the parser read ahead: relative, included, grou
     CHECK(root->getBoundingBox().max.x() == Approx(6.0f));
 }
 
+TEST_CASE("Textures and environment maps take the images read ahead, once per file",
+          "[loadahead][texture]") {
+    // The shipped plugins that decode images through loadTextureImage read ahead.
+    REQUIRE(LoadAhead::readerOf(NoriObject::ETexture, "image"));
+    CHECK(*LoadAhead::readerOf(NoriObject::ETexture, "image") == kTextureImageReader);
+    REQUIRE(LoadAhead::readerOf(NoriObject::EEmitter, "envmap"));
+    CHECK(*LoadAhead::readerOf(NoriObject::EEmitter, "envmap") == kTextureImageReader);
+    CHECK_FALSE(LoadAhead::readerOf(NoriObject::EEmitter, "image")); // by class and name
+
+    TempDir dir;
+    dir.write("triangle.obj", triangleObj(0.0f));
+    Bitmap red(Eigen::Vector2i(2, 1)), blue(Eigen::Vector2i(1, 1));
+    red.setConstant(Color3f(0.5f, 0.0f, 0.0f));
+    blue.setConstant(Color3f(0.0f, 0.0f, 0.25f));
+    std::filesystem::create_directories(dir.path() / "textures");
+    red.saveEXR((dir.path() / "textures/red.exr").string());
+    blue.saveEXR((dir.path() / "blue.exr").string());
+    // red.exr is named by two textures: read ahead for the first, read by the second.
+    const std::string scene = dir.write("scene.xml", R"(<scene>
+        <camera type="perspective"/>
+        <integrator type="normals"/>
+        <mesh type="obj"><string name="filename" value="triangle.obj"/>
+            <bsdf type="diffuse"><texture type="test_ahead_image" name="albedo">
+                <string name="filename" value="textures/red.exr"/></texture></bsdf></mesh>
+        <mesh type="obj"><string name="filename" value="triangle.obj"/>
+            <bsdf type="diffuse"><texture type="test_ahead_image" name="albedo">
+                <string name="filename" value="./textures/red.exr"/></texture></bsdf></mesh>
+        <mesh type="obj"><string name="filename" value="triangle.obj"/>
+            <bsdf type="diffuse"><texture type="test_ahead_image" name="albedo">
+                <string name="filename" value="blue.exr"/></texture></bsdf></mesh>
+        <emitter type="envmap"><string name="filename" value="blue.exr"/></emitter>
+    </scene>)");
+    {
+        std::lock_guard<std::mutex> lock(g_takenMutex);
+        g_imagesTakenAhead.clear();
+        g_imagesReadHere.clear();
+    }
+    auto root = std::dynamic_pointer_cast<Scene>(loadFromXML(scene));
+    REQUIRE(root);
+    const std::string redPath = (dir.path() / "textures/red.exr").string(),
+                      bluePath = (dir.path() / "blue.exr").string();
+    {
+        std::lock_guard<std::mutex> lock(g_takenMutex);
+        CHECK(g_imagesTakenAhead == std::multiset<std::string>{redPath, bluePath});
+        CHECK(g_imagesReadHere == std::multiset<std::string>{redPath});
+    }
+    REQUIRE(root->getEmitters().size() == 1);
+
+    // A broken image read ahead reports its error when its element is reached, on every
+    // thread count with the same words; an error before it comes first.
+    dir.write("broken.png", "not a PNG");
+    const std::string broken = dir.write("broken.xml", R"(<scene>
+        <mesh type="obj"><string name="filename" value="triangle.obj"/>
+            <bsdf type="diffuse"><texture type="image" name="albedo">
+                <string name="filename" value="broken.png"/></texture></bsdf></mesh>
+    </scene>)");
+    std::string serialError, aheadError;
+    ThreadLimit(1).run([&] { serialError = errorOf([&] { loadFromXML(broken); }); });
+    ThreadLimit(0).run([&] { aheadError = errorOf([&] { loadFromXML(broken); }); });
+    CHECK_THAT(aheadError, Contains("broken.png"));
+    CHECK(aheadError == serialError);
+    const std::string earlier = dir.write("earlier.xml", R"(<scene>
+        <mesh type="obj"><string name="filename" value="triangle.obj"/>
+            <float name="nope" value="1"/></mesh>
+        <emitter type="envmap"><string name="filename" value="broken.png"/></emitter>
+    </scene>)");
+    const std::string earlierError = errorOf([&] { loadFromXML(earlier); });
+    CHECK_THAT(earlierError, Contains("nope"));
+    CHECK_THAT(earlierError, !Contains("broken.png"));
+}
+
 TEST_CASE("A file read ahead reports its error when its shape is reached, not before",
           "[loadahead]") {
     TempDir dir;
@@ -162,12 +291,13 @@ TEST_CASE("A file read ahead reports its error when its shape is reached, not be
                Contains("broken.obj:2: vertex position needs 3 numbers, got 2"));
 }
 
-TEST_CASE("A pbrt-v4 scene of many PLY files is the same read ahead as read one by one",
+TEST_CASE("A pbrt-v4 scene of many PLY files and textures is the same read ahead as one by one",
           "[loadahead][pbrt]") {
     TempDir dir;
-    const auto made = nori::testing::runCommand(
-        MAKE_PLY_SCENE_EXECUTABLE,
-        {dir.path().string(), "--meshes", "24", "--triangles", "4800", "--instances", "60"});
+    const auto made =
+        nori::testing::runCommand(MAKE_PLY_SCENE_EXECUTABLE,
+                                  {dir.path().string(), "--meshes", "24", "--triangles", "4800",
+                                   "--instances", "60", "--textures", "5", "--texture-size", "16"});
     INFO(made.output);
     REQUIRE(made.exitCode == 0);
     // One thread: no helpers, each shape reads its file itself; all: the helpers read.
@@ -193,6 +323,12 @@ TEST_CASE("A pbrt-v4 scene of many PLY files is the same read ahead as read one 
         for (size_t i = 0; i < ahead->getMeshes().size(); ++i) {
             CHECK(ahead->getMeshes()[i]->getName() == serial->getMeshes()[i]->getName());
             CHECK(ahead->getMeshes()[i]->positions() == serial->getMeshes()[i]->positions());
+            // Textured by image i mod 5: the same reflectance at the same uv.
+            const BSDF *aheadBSDF = ahead->getMeshes()[i]->getBSDF(),
+                       *serialBSDF = serial->getMeshes()[i]->getBSDF();
+            REQUIRE(aheadBSDF);
+            REQUIRE(serialBSDF);
+            CHECK(aheadBSDF->toString() == serialBSDF->toString());
         }
     }
     CHECK(load("plys.pbrt", 0)->getMeshes().size() == 24);

@@ -16,6 +16,11 @@ enum class ColorSpace {
     Gamma   ///< decode by a power law, value^gamma (pbrt-v4's "gamma G", Mitsuba's gamma)
 };
 
+/// The LoadAhead reader of the image files loadTextureImage decodes (a LoadAhead::Reader
+/// giving an ImageFile, read once per file): a plugin that loads its `filename` through
+/// loadTextureImage registers NORI_REGISTER_LOAD_AHEAD(Class, "type", kTextureImageReader).
+constexpr const char *kTextureImageReader = "image";
+
 /// The pyramid of `filename` in `colorSpace` (with ColorSpace::Gamma, the exponent
 /// `gamma`), from the cache or decoded now. Throws NoriException naming the file when it
 /// cannot be read, or holds a NaN or infinity.

@@ -6,6 +6,7 @@
 #include <exception>
 #include <map>
 #include <mutex>
+#include <set>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -14,8 +15,19 @@ namespace nori {
 
 namespace {
 
-std::map<std::string, LoadAhead::Reader> &readers() {
-    static std::map<std::string, LoadAhead::Reader> table;
+struct RegisteredReader {
+    LoadAhead::Reader read;
+    LoadAhead::Sharing sharing;
+};
+
+std::map<std::string, RegisteredReader> &readers() {
+    static std::map<std::string, RegisteredReader> table;
+    return table;
+}
+
+/// The reader of each plugin that has one, by (class, plugin name).
+std::map<std::pair<NoriObject::EClassType, std::string>, std::string> &pluginReaders() {
+    static std::map<std::pair<NoriObject::EClassType, std::string>, std::string> table;
     return table;
 }
 
@@ -30,7 +42,7 @@ thread_local LoadAhead *t_current = nullptr;
 struct LoadAhead::State {
     enum class Stage { Waiting, Reading, Done };
     struct Read {
-        const Reader *reader;
+        const Reader *read;
         std::string path;
         Stage stage = Stage::Waiting;
         std::any result;
@@ -40,8 +52,11 @@ struct LoadAhead::State {
     std::mutex mutex;
     std::condition_variable changed; ///< a read was started or finished, or closing
     std::deque<Read> reads;          ///< stable addresses: a deque only grows at its end
-    /// The reads not yet taken, by (plugin type, path); a file named twice has two.
+    /// The reads not yet taken, by (reader, path); a file named twice has two, unless its
+    /// reader shares it PerPath.
     std::multimap<std::pair<std::string, std::string>, Read *> untaken;
+    /// The (reader, path) of every PerPath read started.
+    std::set<std::pair<std::string, std::string>> startedPerPath;
     size_t nextWaiting = 0; ///< no read before this index is waiting
     bool closing = false;
     std::vector<std::thread> helpers;
@@ -54,7 +69,7 @@ struct LoadAhead::State {
         std::any result;
         std::exception_ptr error;
         try {
-            result = (*read.reader)(read.path);
+            result = (*read.read)(read.path);
         } catch (...) {
             error = std::current_exception();
         }
@@ -85,12 +100,19 @@ struct LoadAhead::State {
     }
 };
 
-void LoadAhead::registerReader(const std::string &pluginType, Reader reader) {
-    readers()[pluginType] = std::move(reader);
+void LoadAhead::registerReader(const std::string &reader, Reader read, Sharing sharing) {
+    readers()[reader] = {std::move(read), sharing};
 }
 
-bool LoadAhead::hasReader(const std::string &pluginType) {
-    return readers().count(pluginType) > 0;
+void LoadAhead::registerPlugin(NoriObject::EClassType classType, const std::string &pluginType,
+                               const std::string &reader) {
+    pluginReaders()[{classType, pluginType}] = reader;
+}
+
+const std::string *LoadAhead::readerOf(NoriObject::EClassType classType,
+                                       const std::string &pluginType) {
+    const auto found = pluginReaders().find({classType, pluginType});
+    return found == pluginReaders().end() ? nullptr : &found->second;
 }
 
 LoadAhead::LoadAhead() : m_state(std::make_unique<State>()), m_outer(t_current) {
@@ -109,15 +131,18 @@ LoadAhead::~LoadAhead() {
         helper.join();
 }
 
-void LoadAhead::start(const std::string &pluginType, const std::string &path) {
-    const auto reader = readers().find(pluginType);
-    if (reader == readers().end())
+void LoadAhead::start(const std::string &reader, const std::string &path) {
+    const auto registered = readers().find(reader);
+    if (registered == readers().end())
         return;
     State &state = *m_state;
     {
         std::lock_guard<std::mutex> lock(state.mutex);
-        state.reads.push_back({&reader->second, path, State::Stage::Waiting, {}, nullptr});
-        state.untaken.emplace(std::make_pair(pluginType, path), &state.reads.back());
+        if (registered->second.sharing == Sharing::PerPath &&
+            !state.startedPerPath.emplace(reader, path).second)
+            return;
+        state.reads.push_back({&registered->second.read, path, State::Stage::Waiting, {}, nullptr});
+        state.untaken.emplace(std::make_pair(reader, path), &state.reads.back());
     }
     // A helper for each read started, up to the limit: a scene of one mesh file starts one.
     // Without threads to spare (a limit of one, or none left), take() reads on its own.
@@ -128,17 +153,19 @@ void LoadAhead::start(const std::string &pluginType, const std::string &path) {
             state.helperLimit = state.helpers.size();
         }
     }
-    state.changed.notify_one();
+    // notify_all: takers wait on the same condition, and a notify_one could wake one of
+    // them instead of the idle helper this read is for.
+    state.changed.notify_all();
 }
 
-std::optional<std::any> LoadAhead::takeAny(const std::string &pluginType, const std::string &path) {
+std::optional<std::any> LoadAhead::takeAny(const std::string &reader, const std::string &path) {
     if (!t_current)
         return std::nullopt;
     State &state = *t_current->m_state;
     std::unique_lock<std::mutex> lock(state.mutex);
     // The first started of a file named twice is the first taken (multimap keeps the order
     // of insertion among equal keys).
-    const auto key = std::make_pair(pluginType, path);
+    const auto key = std::make_pair(reader, path);
     const auto entry = state.untaken.lower_bound(key);
     if (entry == state.untaken.end() || entry->first != key)
         return std::nullopt;

@@ -366,13 +366,14 @@ private:
         return root;
     }
 
-    /// Starts reading the files that shapes below `root` will read (LoadAhead): helpers
-    /// decode them while the elements before them are built. Only a `type` and a
-    /// `filename` without $variables are followed; a $variable's value may change before
-    /// its element (a <default> further on), so that shape reads its file itself.
+    /// Starts reading the files that elements below `root` will read (LoadAhead: meshes,
+    /// images): helpers decode them while the elements before them are built. Only a
+    /// `type` and a `filename` without $variables are followed; a $variable's value may
+    /// change before its element (a <default> further on), so that element reads its file
+    /// itself.
     void startLoadsAhead(const SourceFile &file, const pugi::xml_node &root) {
         // Depth first in document order (children pushed last first), the order in which
-        // the shapes will ask for their files.
+        // the elements will ask for their files.
         std::vector<pugi::xml_node> stack{root};
         while (!stack.empty()) {
             const pugi::xml_node node = stack.back();
@@ -381,8 +382,9 @@ private:
                 if (child.type() == pugi::node_element)
                     stack.push_back(child);
             const std::string type = node.attribute("type").value();
-            if (NoriObject::classTypeFromName(node.name()) != NoriObject::EMesh ||
-                type.find('$') != std::string::npos || !LoadAhead::hasReader(type))
+            const std::string *reader =
+                LoadAhead::readerOf(NoriObject::classTypeFromName(node.name()), type);
+            if (reader == nullptr)
                 continue;
             const pugi::xml_node filename =
                 node.find_child_by_attribute("string", "name", "filename");
@@ -393,7 +395,7 @@ private:
             fs::path path(value);
             if (path.is_relative() && !file.directory.empty())
                 path = fs::path(file.directory) / path;
-            m_loadAhead.start(type, path.lexically_normal().string());
+            m_loadAhead.start(*reader, path.lexically_normal().string());
         }
     }
 
@@ -798,7 +800,7 @@ private:
     std::vector<std::pair<std::string, std::string>> m_openIds; ///< (id, location) of open elements
     std::list<SourceFile> m_files; ///< kept alive: locations refer to them
     int m_depth = 0;               ///< of the element being parsed, across includes
-    LoadAhead m_loadAhead;         ///< the mesh files read ahead of their elements
+    LoadAhead m_loadAhead;         ///< the files read ahead of their elements
 };
 
 } // namespace

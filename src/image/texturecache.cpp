@@ -1,5 +1,6 @@
 #include <nori/filesystem.h>
 #include <nori/imagefile.h>
+#include <nori/loadahead.h>
 #include <nori/texturecache.h>
 
 #include <map>
@@ -30,6 +31,12 @@ Bitmap textureValues(ImageFile file, ColorSpace colorSpace, float gamma,
     return std::move(file.pixels);
 }
 
+/// The images of textures and environment maps are decoded ahead (LoadAhead), once per
+/// file: the cache below serves every texture that names it.
+NORI_REGISTER_READER(
+    kTextureImageReader, [](const std::string &path) { return std::any(readImageFile(path)); },
+    LoadAhead::Sharing::PerPath);
+
 } // namespace
 
 std::shared_ptr<const MIPMap> loadTextureImage(const std::string &filename, ColorSpace colorSpace,
@@ -42,8 +49,9 @@ std::shared_ptr<const MIPMap> loadTextureImage(const std::string &filename, Colo
     std::lock_guard<std::mutex> lock(mutex);
     if (auto cached = cache[key].lock())
         return cached;
-    auto mipmap = std::make_shared<const MIPMap>(
-        textureValues(readImageFile(filename), colorSpace, gamma, filename));
+    auto mipmap = std::make_shared<const MIPMap>(textureValues(
+        LoadAhead::takeOrRead<ImageFile>(kTextureImageReader, filename, readImageFile), colorSpace,
+        gamma, filename));
     cache[key] = mipmap;
     return mipmap;
 }

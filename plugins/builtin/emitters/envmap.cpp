@@ -43,6 +43,7 @@
 #include <nori/bbox.h>
 #include <nori/dpdf.h>
 #include <nori/emitter.h>
+#include <nori/loadahead.h>
 #include <nori/proplist.h>
 #include <nori/texturecache.h>
 #include <nori/transform.h>
@@ -258,6 +259,7 @@ private:
 };
 
 NORI_REGISTER_CLASS(EnvironmentMap, "envmap");
+NORI_REGISTER_LOAD_AHEAD(EnvironmentMap, "envmap", kTextureImageReader);
 NORI_REGISTER_ALIAS(EnvironmentMap, "environment", environment);
 
 } // namespace

@@ -64,7 +64,10 @@ public:
 };
 
 NORI_REGISTER_CLASS(WavefrontOBJ, "obj");
-NORI_REGISTER_LOAD_AHEAD("obj", [](const std::string &path) { return std::any(readOBJ(path)); });
+NORI_REGISTER_READER(
+    "obj", [](const std::string &path) { return std::any(readOBJ(path)); },
+    LoadAhead::Sharing::PerElement);
+NORI_REGISTER_LOAD_AHEAD(WavefrontOBJ, "obj", "obj");
 
 } // namespace
 } // namespace nori

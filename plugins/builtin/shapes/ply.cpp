@@ -42,7 +42,10 @@ public:
 };
 
 NORI_REGISTER_CLASS(PlyShape, "ply");
-NORI_REGISTER_LOAD_AHEAD("ply", [](const std::string &path) { return std::any(readPLY(path)); });
+NORI_REGISTER_READER(
+    "ply", [](const std::string &path) { return std::any(readPLY(path)); },
+    LoadAhead::Sharing::PerElement);
+NORI_REGISTER_LOAD_AHEAD(PlyShape, "ply", "ply");
 
 } // namespace
 } // namespace nori

@@ -28,6 +28,7 @@
  *       </texture>
  *   </bsdf>
  */
+#include <nori/loadahead.h>
 #include <nori/proplist.h>
 #include <nori/strutil.h>
 #include <nori/texture.h>
@@ -177,6 +178,7 @@ private:
 };
 
 NORI_REGISTER_CLASS(ImageTexture, "image");
+NORI_REGISTER_LOAD_AHEAD(ImageTexture, "image", kTextureImageReader);
 
 } // namespace
 } // namespace nori
