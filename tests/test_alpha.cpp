@@ -4,6 +4,7 @@
 #include "testutil.h"
 
 #include <nori/parser.h>
+#include <nori/pcg32.h>
 #include <nori/scene.h>
 #include <nori/shape.h>
 
@@ -135,4 +136,45 @@ TEST_CASE("Alpha is checked: a number from 0 to 1 or a texture, not on a medium 
         loadFromXMLString(R"(<mesh type="cube"><float name="alpha" value="1"/></mesh>)"));
     REQUIRE(opaque);
     CHECK(opaque->getOpacity() == nullptr); // the fast path
+}
+
+TEST_CASE("A mask's test sees the position and uv that shading sees, bit for bit", "[alpha]") {
+    // Shape::hitPoint is all a mask's test computes; a mesh overrides it with the same
+    // interpolations as setHitInformation, which must give the same numbers (the mask's
+    // stochastic choice hashes the point).
+    TempDir dir;
+    const std::string withUVs = dir.write("uv.obj", "v 0 0 0\nv 2 0.5 0\nv 0.3 1.7 -1\n"
+                                                    "vt 0.1 0.2\nvt 0.9 0.3\nvt 0.4 0.95\n"
+                                                    "f 1/1 2/2 3/3\n");
+    const std::string withoutUVs = dir.write("plain.obj", "v 0 0 0\nv 2 0.5 0\nv 0.3 1.7 -1\n"
+                                                          "f 1 2 3\n");
+    for (const std::string &shapeXML :
+         {fmt::format(R"(<mesh type="obj"><string name="filename" value="{}"/></mesh>)", withUVs),
+          fmt::format(R"(<mesh type="obj"><string name="filename" value="{}"/></mesh>)",
+                      withoutUVs),
+          std::string(R"(<mesh type="sphere"><float name="radius" value="0.7"/></mesh>)")}) {
+        INFO(shapeXML);
+        const auto shape = std::dynamic_pointer_cast<Shape>(loadFromXMLString(shapeXML));
+        REQUIRE(shape);
+        PCG32 random(5, 11);
+        for (int i = 0; i < 200; ++i) {
+            // A ray from outside towards a random point of the shape.
+            const ShapeSample sample =
+                shape->sampleSurface(Point2f(random.nextFloat(), random.nextFloat()));
+            const Point3f origin(3.0f, 2.0f, 4.0f);
+            const Ray3f ray(origin, (sample.p - origin).normalized());
+            float t;
+            Point2f coords;
+            if (!shape->rayIntersect(0, ray, t, coords))
+                continue;
+            Intersection its;
+            its.t = t;
+            shape->setHitInformation(0, ray, coords, its);
+            Point3f p;
+            Point2f uv;
+            shape->hitPoint(0, ray, t, coords, p, uv);
+            CHECK(p == its.p);
+            CHECK(uv == its.uv);
+        }
+    }
 }

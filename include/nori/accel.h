@@ -103,8 +103,9 @@ private:
     static Ray3f toInstanceSpace(const AffineMap &toLocal, const Ray3f &ray, float tMax);
 
     std::vector<const Shape *> m_shapes;
-    std::vector<uint8_t> m_isMesh; ///< per shape: a Mesh, tested inline
-    bool m_hasOpacity = false;     ///< some shape has an alpha mask (the slow path)
+    std::vector<uint8_t> m_isMesh;   ///< per shape: a Mesh, tested inline
+    std::vector<uint8_t> m_isMasked; ///< per shape: has an alpha mask, asked at each hit
+    bool m_hasOpacity = false;       ///< some shape has one
     /// The ids of leaf slot `slot`.
     PrimitiveId idOf(uint32_t slot) const {
         const TrianglePacket &packet = m_packets[slot / TrianglePacket::kWidth];

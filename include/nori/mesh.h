@@ -26,6 +26,9 @@ public:
                       Point2f &hitCoords) const override;
     void setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
                            Intersection &its) const override;
+    /// The barycentric interpolations of setHitInformation alone (an alpha mask's test).
+    void hitPoint(uint32_t index, const Ray3f &ray, float t, const Point2f &hitCoords, Point3f &p,
+                  Point2f &uv) const override;
     /// Shades like a copy of the mesh loaded with toWorld: vertex normals are mapped and
     /// normalised one by one before they are interpolated.
     void setInstancedHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,

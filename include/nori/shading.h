@@ -48,7 +48,7 @@ class AlphaMask : public SurfaceOpacity {
 public:
     /// `shape` is the shape it will be attached to (for its uvScale).
     AlphaMask(std::shared_ptr<const Texture> opacity, const Shape &shape);
-    float opacityAtHit(const Intersection &its) const override;
+    float opacityAtHit(const Point2f &shapeUV, const Point3f &p) const override;
     float opacityAt(const Point2f &textureUV, const Point3f &p) const override;
 
 private:

@@ -55,8 +55,8 @@ struct ShapeSample {
 class SurfaceOpacity {
 public:
     virtual ~SurfaceOpacity() = default;
-    /// α at a ray hit, `its` as setHitInformation() fills it (the shape's own uv).
-    virtual float opacityAtHit(const Intersection &its) const = 0;
+    /// α at a ray hit at p, given the shape's own uv there (Shape::hitPoint).
+    virtual float opacityAtHit(const Point2f &shapeUV, const Point3f &p) const = 0;
     /// α at a point given by its texture uv (a light's sampled point, an emitter query).
     virtual float opacityAt(const Point2f &textureUV, const Point3f &p) const = 0;
 };
@@ -119,6 +119,12 @@ public:
     /// Fills every field of `its` but t, which the caller has set.
     virtual void setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
                                    Intersection &its) const = 0;
+
+    /// The position and the shape's own uv of a hit, as setHitInformation sets its.p and
+    /// its.uv (t set before): all an alpha mask needs to decide whether a candidate hit is
+    /// there, so the default, which fills a whole Intersection, is worth overriding.
+    virtual void hitPoint(uint32_t index, const Ray3f &ray, float t, const Point2f &hitCoords,
+                          Point3f &p, Point2f &uv) const;
 
     /// setHitInformation for a hit found inside an instance (ray and hitCoords in the
     /// shape's space), carried to world space by toWorld (toLocal is its inverse).

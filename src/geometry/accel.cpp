@@ -26,7 +26,8 @@ BoundingBox3f transformedBounds(const BoundingBox3f &box, const AffineMap &toWor
 void Accel::addShape(const Shape *shape) {
     m_shapes.push_back(shape);
     m_isMesh.push_back(dynamic_cast<const Mesh *>(shape) != nullptr);
-    m_hasOpacity = m_hasOpacity || shape->getOpacity() != nullptr;
+    m_isMasked.push_back(shape->getOpacity() != nullptr);
+    m_hasOpacity = m_hasOpacity || m_isMasked.back();
 }
 
 void Accel::addInstance(const InstanceTarget *target, const AffineMap &toWorld) {
@@ -118,7 +119,8 @@ size_t Accel::memoryBytes() const {
            m_instanceBvh.nodeCount() * sizeof(decltype(m_instanceBvh)::Node) +
            m_instances.capacity() * sizeof(InstanceRecord) +
            m_targets.capacity() * sizeof(decltype(m_targets)::value_type) +
-           m_shapes.capacity() * sizeof(decltype(m_shapes)::value_type) + m_isMesh.capacity();
+           m_shapes.capacity() * sizeof(decltype(m_shapes)::value_type) + m_isMesh.capacity() +
+           m_isMasked.capacity();
     // NOLINTEND(bugprone-sizeof-expression)
 }
 
@@ -157,10 +159,12 @@ template <bool AnyHit> bool Accel::intersect(const Ray3f &ray, Hit &hit, int dep
             auto consider = [&](uint32_t slot, float t, const Point2f &coords) {
                 if (found && (t > tBest || (t == tBest && idOf(bestSlot) < idOf(slot))))
                     return false;
-                // An alpha-masked surface is absent at some points: the ray goes on.
+                // An alpha-masked surface is absent at some points: the ray goes on. Only
+                // the masked shapes' hits are asked (from their position and uv alone).
                 if (m_hasOpacity) {
                     const PrimitiveId id = idOf(slot);
-                    if (!m_shapes[id.shapeIndex]->presentAt(id.primIndex, ray, t, coords))
+                    if (m_isMasked[id.shapeIndex] &&
+                        !m_shapes[id.shapeIndex]->presentAt(id.primIndex, ray, t, coords))
                         return false;
                 }
                 found = hitInLeaf = true;

@@ -11,6 +11,24 @@
 
 namespace nori {
 
+namespace {
+
+/// b0·x0 + b1·x1 + b2·x2: a hit's position or uv from its barycentrics (one function, so
+/// that an alpha mask's test and the shading of the same hit compute the same point).
+template <typename T>
+T barycentricMix(float b0, float b1, float b2, const T &x0, const T &x1, const T &x2) {
+    return b0 * x0 + b1 * x1 + b2 * x2;
+}
+
+/// The uv of a face's corners: the mesh's own, or the barycentric parameterisation.
+std::array<Point2f, 3> faceCornerUVs(const std::vector<Point2f> &texCoords, const Vector3i &face) {
+    if (texCoords.empty())
+        return {Point2f(0.0f, 0.0f), Point2f(1.0f, 0.0f), Point2f(0.0f, 1.0f)};
+    return {texCoords[face[0]], texCoords[face[1]], texCoords[face[2]]};
+}
+
+} // namespace
+
 BoundingBox3f Mesh::getPrimitiveBoundingBox(uint32_t index) const {
     const Vector3i &face = m_faces[index];
     BoundingBox3f box(m_positions[face[0]]);
@@ -37,6 +55,18 @@ bool Mesh::rayIntersect(uint32_t index, const Ray3f &ray, float &t, Point2f &hit
                              m_positions[face[2]], t, hitCoords.x(), hitCoords.y());
 }
 
+void Mesh::hitPoint(uint32_t index, const Ray3f &ray, float t, const Point2f &hitCoords, Point3f &p,
+                    Point2f &uv) const {
+    (void)ray;
+    (void)t;
+    const Vector3i &face = m_faces[index];
+    const float b1 = hitCoords.x(), b2 = hitCoords.y(), b0 = 1.0f - b1 - b2;
+    p = barycentricMix(b0, b1, b2, m_positions[face[0]], m_positions[face[1]],
+                       m_positions[face[2]]);
+    const auto [uv0, uv1, uv2] = faceCornerUVs(m_texCoords, face);
+    uv = barycentricMix(b0, b1, b2, uv0, uv1, uv2);
+}
+
 void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hitCoords,
                              Intersection &its) const {
     (void)ray;
@@ -45,21 +75,15 @@ void Mesh::setHitInformation(uint32_t index, const Ray3f &ray, const Point2f &hi
     const Point3f &p0 = m_positions[face[0]], &p1 = m_positions[face[1]],
                   &p2 = m_positions[face[2]];
 
-    its.p = b0 * p0 + b1 * p1 + b2 * p2;
+    its.p = barycentricMix(b0, b1, b2, p0, p1, p2);
     // Error of the barycentric interpolation (PBR 4th ed. §6.8.5, eq. 6.33).
     its.pError = gammaBound(7) *
                  Vector3f((b0 * p0).cwiseAbs() + (b1 * p1).cwiseAbs() + (b2 * p2).cwiseAbs());
     its.primIndex = index;
     its.shape = its.mesh = this;
 
-    // Texture coordinates: the mesh's own, or the barycentric parameterisation.
-    Point2f uv0(0.0f, 0.0f), uv1(1.0f, 0.0f), uv2(0.0f, 1.0f);
-    if (!m_texCoords.empty()) {
-        uv0 = m_texCoords[face[0]];
-        uv1 = m_texCoords[face[1]];
-        uv2 = m_texCoords[face[2]];
-    }
-    its.uv = b0 * uv0 + b1 * uv1 + b2 * uv2;
+    const auto [uv0, uv1, uv2] = faceCornerUVs(m_texCoords, face);
+    its.uv = barycentricMix(b0, b1, b2, uv0, uv1, uv2);
 
     Vector3f edge1 = p1 - p0, edge2 = p2 - p0;
     const Vector3f geoNormal = faceForward(edge1.cross(edge2).normalized(), index, b1, b2);

@@ -63,13 +63,22 @@ void Shape::setOpacity(std::shared_ptr<const SurfaceOpacity> opacity) {
     m_opacity = std::move(opacity);
 }
 
-bool Shape::presentAt(uint32_t index, const Ray3f &ray, float t, const Point2f &hitCoords) const {
-    if (!m_opacity)
-        return true;
+void Shape::hitPoint(uint32_t index, const Ray3f &ray, float t, const Point2f &hitCoords,
+                     Point3f &p, Point2f &uv) const {
     Intersection its;
     its.t = t;
     setHitInformation(index, ray, hitCoords, its);
-    return surfacePresent(m_opacity->opacityAtHit(its), its.p);
+    p = its.p;
+    uv = its.uv;
+}
+
+bool Shape::presentAt(uint32_t index, const Ray3f &ray, float t, const Point2f &hitCoords) const {
+    if (!m_opacity)
+        return true;
+    Point3f p;
+    Point2f uv;
+    hitPoint(index, ray, t, hitCoords, p, uv);
+    return surfacePresent(m_opacity->opacityAtHit(uv, p), p);
 }
 
 void Shape::setBSDF(std::shared_ptr<BSDF> bsdf) {

@@ -142,8 +142,8 @@ bool SurfaceShading::usesFootprint() const {
 AlphaMask::AlphaMask(std::shared_ptr<const Texture> opacity, const Shape &shape)
     : m_opacity(std::move(opacity)), m_shape(shape) {}
 
-float AlphaMask::opacityAtHit(const Intersection &its) const {
-    return opacityAt(textureUV(m_shape, its.uv), its.p);
+float AlphaMask::opacityAtHit(const Point2f &shapeUV, const Point3f &p) const {
+    return opacityAt(textureUV(m_shape, shapeUV), p);
 }
 
 float AlphaMask::opacityAt(const Point2f &textureUV, const Point3f &p) const {
