@@ -15,11 +15,10 @@
 #include "app/cli.h"
 #include <nori/bitmap.h>
 #include <nori/meshdata.h>
+#include <nori/parallel.h>
 #include <nori/pcg32.h>
 #include <nori/plyfile.h>
 #include <nori/strutil.h>
-
-#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <filesystem>
@@ -147,7 +146,7 @@ int run(const Arguments &arguments) {
         std::max(2, static_cast<int>(std::lround(0.5 + 0.5 * std::sqrt(1.0 + perMesh))));
     std::vector<std::string> names(static_cast<size_t>(arguments.meshes));
     std::vector<size_t> counts(names.size());
-    tbb::parallel_for(size_t(0), names.size(), [&](size_t i) {
+    parallelForEach(size_t(0), names.size(), [&](size_t i) {
         names[i] = fmt::format("meshes/blob-{:04}.ply", i);
         const MeshData mesh = bumpySphere(rings, i);
         counts[i] = mesh.triangles.size();
@@ -158,7 +157,7 @@ int run(const Arguments &arguments) {
         total += count;
     if (arguments.textures > 0) {
         fs::create_directories(directory / "textures");
-        tbb::parallel_for(size_t(0), arguments.textures, [&](size_t i) {
+        parallelForEach(size_t(0), arguments.textures, [&](size_t i) {
             stripes(arguments.textureSize, i)
                 .savePNG((directory / fmt::format("textures/tex-{:04}.png", i)).string());
         });
