@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <fstream>
 
 using namespace nori;
@@ -136,6 +137,33 @@ TEST_CASE("sRGB conversion is inverted by toLinearRGB", "[image]") {
         CHECK(c.toSRGB().toLinearRGB().isApprox(c, 1e-5f));
     }
     CHECK(Color3f(0.5f).toSRGB().r() == Approx(0.735357f).epsilon(1e-5));
+}
+
+TEST_CASE("toLinearRGB looks up 8-bit values and computes the rest, to the bit", "[image]") {
+    // The sRGB decoding (IEC 61966-2-1) as it is computed.
+    auto decoded = [](float value) {
+        return value <= 0.04045f ? value * (1.0f / 12.92f)
+                                 : std::pow((value + 0.055f) * (1.0f / 1.055f), 2.4f);
+    };
+    auto exact = [&](float value) {
+        const float linear = Color3f(value, 0.5f, value).toLinearRGB().r();
+        return linear == decoded(value) || (std::isnan(linear) && std::isnan(value));
+    };
+    // The values decoders write for 8-bit samples (both roundings), 16-bit samples, their
+    // neighbours one ulp away, and values no image holds.
+    for (int k = 0; k < 256; ++k) {
+        const float product = static_cast<float>(k) * (1.0f / 255.0f),
+                    quotient = static_cast<float>(k) / 255.0f;
+        for (float value :
+             {product, quotient, std::nextafter(product, 2.0f), std::nextafter(quotient, -1.0f)}) {
+            INFO(k << ": " << value);
+            CHECK(exact(value));
+        }
+    }
+    for (int k = 0; k < 65536; k += 97)
+        CHECK(exact(static_cast<float>(k) * (1.0f / 65535.0f)));
+    for (float value : {-0.5f, 1.5f, 1e6f, -kInfinity, kInfinity, std::nanf("")})
+        CHECK(exact(value));
 }
 
 TEST_CASE("Luminance uses Nori's Rec. 709 weights", "[image]") {
