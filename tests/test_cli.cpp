@@ -244,7 +244,7 @@ TEST_CASE("The exposure option brightens the PNG by 2^E and leaves the EXR alone
                Catch::Matches("nori [0-9]+\\.[0-9]+\\.[0-9]+\nbuild type [A-Za-z]+, "
                               "(AVX-512|AVX2|AVX|SSE4\\.2|SSE2) \\((-march=native|portable "
                               "x86-64)\\), (GCC|clang) [0-9.]+, precompiled headers (on|off), "
-                              "sanitizers (on|off)\n"));
+                              "sanitizers (off|ASan\\+UBSan|TSan)\n"));
     auto badExposure = runNori({"--exposure", "nan", scene});
     CHECK(badExposure.exitCode == 1);
 }
