@@ -50,7 +50,9 @@ public:
         const float scaled = value * 255.0f;
         if (!(scaled >= 0.0f && scaled <= 255.0f)) // NaN too
             return srgbToLinear(value);
-        const auto k = static_cast<size_t>(scaled + 0.5f);
+        // The nearest k (scaled lies in [0, 255], so truncating scaled + 0.5 rounds it); the
+        // comparisons below decide whether value is exactly one of the table's.
+        const auto k = static_cast<size_t>(scaled + 0.5f); // NOLINT(bugprone-incorrect-roundings)
         if (value == m_product[k])
             return m_linearProduct[k];
         if (value == m_quotient[k])
