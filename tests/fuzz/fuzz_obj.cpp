@@ -11,7 +11,9 @@ namespace {
 
 /// A file of this process, written for each input and removed after it. (Removed at exit
 /// before, it was left behind by runs that did not exit normally: 23 of them in /tmp.)
-std::string scratchFile() { return "/tmp/nori-fuzz-obj-" + std::to_string(getpid()) + ".obj"; }
+std::string scratchFile() {
+    return "/tmp/nori-fuzz-obj-" + std::to_string(getpid()) + ".obj";
+}
 
 } // namespace
 
