@@ -12,6 +12,9 @@
 #include <catch2/catch.hpp>
 #include <stb_image_write.h>
 
+#include <cstring>
+#include <thread>
+
 using namespace nori;
 using namespace nori::testing;
 using Catch::Matchers::Contains;
@@ -38,6 +41,12 @@ Color3f boxAverage(const Bitmap &image, double x0, double x1, double y0, double 
             sum += float(ox * oy) * image(y, x);
         }
     return sum / float((x1 - x0) * (y1 - y0));
+}
+
+/// Whether two images have the same size and the same bits in every texel.
+bool sameBits(const Bitmap &a, const Bitmap &b) {
+    return a.width() == b.width() && a.height() == b.height() &&
+           std::memcmp(a.data(), b.data(), sizeof(Color3f) * static_cast<size_t>(a.size())) == 0;
 }
 
 std::shared_ptr<Texture> loadTexture(const std::string &xml, const std::string &directory = ".") {
@@ -77,6 +86,59 @@ TEST_CASE("Each pyramid level is the box average of the one below", "[texture][m
     CHECK(square.level(1)(1, 2).isApprox(0.25f * (square.level(0)(2, 4) + square.level(0)(2, 5) +
                                                   square.level(0)(3, 4) + square.level(0)(3, 5)),
                                          1e-6f));
+}
+
+TEST_CASE("The levels above 0 are built on first use, once, whichever threads ask",
+          "[texture][mipmap]") {
+    const Bitmap image = randomImage(37, 20, 5);
+    // The reference: the chain of downsamplings, built here eagerly.
+    std::vector<Bitmap> expected{image};
+    while (expected.back().width() > 1 || expected.back().height() > 1)
+        expected.push_back(MIPMap::downsample(expected.back()));
+
+    const MIPMap mipmap(image);
+    REQUIRE(mipmap.levels() == static_cast<int>(expected.size())); // 37 → 18 → 9 → 4 → 2 → 1
+    // Lookups on level 0 (nearest, bilinear, a trilinear one whose footprint is below a
+    // texel) do not build the others.
+    const Point2f st(0.3f, 0.6f);
+    mipmap.nearest(st, MIPMap::Wrap::Repeat);
+    mipmap.bilinear(0, st, MIPMap::Wrap::Repeat);
+    mipmap.trilinear(st, Vector2f(1e-4f, 0.0f), Vector2f(0.0f, 1e-4f), MIPMap::Wrap::Repeat);
+    CHECK(sameBits(mipmap.level(0), image));
+    CHECK_FALSE(mipmap.pyramidBuilt());
+
+    // Threads asking at once for levels above 0 all see the same, complete levels.
+    constexpr int kThreads = 4;
+    std::vector<std::vector<Color3f>> seen(kThreads);
+    std::vector<std::thread> threads;
+    for (int thread = 0; thread < kThreads; ++thread)
+        threads.emplace_back([&, thread] {
+            for (int level = mipmap.levels() - 1 - thread % 2; level >= 1; --level) {
+                const Bitmap &here = mipmap.level(level);
+                seen[thread].push_back(here(here.height() - 1, here.width() - 1));
+                seen[thread].push_back(mipmap.bilinear(level, st, MIPMap::Wrap::Clamp));
+            }
+        });
+    for (std::thread &thread : threads)
+        thread.join();
+    CHECK(mipmap.pyramidBuilt());
+    for (int level = 1; level < mipmap.levels(); ++level) {
+        CAPTURE(level);
+        CHECK(sameBits(mipmap.level(level), expected[level]));
+    }
+    for (int thread = 0; thread < kThreads; ++thread) {
+        int k = 0;
+        for (int level = mipmap.levels() - 1 - thread % 2; level >= 1; --level) {
+            const Bitmap &here = expected[level];
+            CHECK((seen[thread][k++] == here(here.height() - 1, here.width() - 1)).all());
+            CHECK((seen[thread][k++] == mipmap.bilinear(level, st, MIPMap::Wrap::Clamp)).all());
+        }
+    }
+
+    // A 1×1 image has no level to build.
+    const MIPMap single(randomImage(1, 1, 2));
+    CHECK(single.levels() == 1);
+    CHECK(single.pyramidBuilt());
 }
 
 TEST_CASE("Wrap modes repeat, clamp and mirror texel indices", "[texture][mipmap]") {

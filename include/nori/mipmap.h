@@ -3,10 +3,15 @@
 // (rounded down, any size), down to 1×1. Lookups: nearest and bilinear on level 0,
 // trilinear between the two levels around the footprint's width, and elliptically
 // weighted averages with a Gaussian (Heckbert 1989; pbrt-v3 §10.4.2).
+// The levels above 0 are built on first use, by the first lookup (from any thread) that
+// needs one: a texture filtered bilinearly (pbrt-v4's and Mitsuba's default) never pays
+// their third more memory, nor their time at load.
 #pragma once
 #include <nori/bitmap.h>
 #include <nori/vector.h>
 
+#include <atomic>
+#include <mutex>
 #include <vector>
 
 namespace nori {
@@ -16,11 +21,15 @@ public:
     enum class Wrap { Repeat, Clamp, Mirror };
     enum class Filter { Nearest, Bilinear, Trilinear, EWA };
 
-    /// Builds the pyramid of `image` (at least 1×1).
+    /// The pyramid of `image` (at least 1×1); its levels above 0 are built on first use.
     explicit MIPMap(Bitmap image);
 
-    int levels() const { return static_cast<int>(m_levels.size()); }
-    const Bitmap &level(int index) const { return m_levels[index]; }
+    int levels() const { return m_levelCount; }
+    /// Level `index` in [0, levels()); asking for one above 0 builds them all if they are
+    /// not yet built (safe from several threads at once: one builds, the others wait).
+    const Bitmap &level(int index) const;
+    /// Whether the levels above 0 have been built (a 1×1 image has none to build).
+    bool pyramidBuilt() const { return m_pyramidBuilt.load(std::memory_order_acquire); }
     /// The texel (x, y) of a level, with the coordinates wrapped.
     Color3f texel(int level, int x, int y, Wrap wrap) const;
 
@@ -53,8 +62,16 @@ public:
     static Bitmap downsample(const Bitmap &image);
 
 private:
-    std::vector<Bitmap> m_levels;
+    /// The texel (x, y) of `image`, with the coordinates wrapped.
+    static Color3f texelOf(const Bitmap &image, int x, int y, Wrap wrap);
+
+    Bitmap m_base; ///< level 0
+    int m_levelCount;
     Color3f m_average;
+    /// Levels 1, 2, ...: written once, inside m_buildOnce, read only after it.
+    mutable std::vector<Bitmap> m_pyramid;
+    mutable std::once_flag m_buildOnce;
+    mutable std::atomic<bool> m_pyramidBuilt{false};
 };
 
 } // namespace nori

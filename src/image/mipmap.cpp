@@ -81,71 +81,107 @@ Vector2f finiteOrZero(const Vector2f &v) {
 
 Bitmap MIPMap::downsample(const Bitmap &image) {
     const int width = std::max(1, image.width() / 2), height = std::max(1, image.height() / 2);
-    const std::vector<BoxWeights> wx = boxWeights(image.width(), width);
-    const std::vector<BoxWeights> wy = boxWeights(image.height(), height);
+    // An even size halves exactly: each output is ½·a + ½·b, the same sums in the same
+    // order as the weights below give (so the same bits), without their loop.
+    const bool evenWidth = image.width() % 2 == 0, evenHeight = image.height() % 2 == 0;
+    const std::vector<BoxWeights> wx =
+        evenWidth ? std::vector<BoxWeights>() : boxWeights(image.width(), width);
+    const std::vector<BoxWeights> wy =
+        evenHeight ? std::vector<BoxWeights>() : boxWeights(image.height(), height);
     // Separable: rows first, then columns.
     Bitmap rows(Eigen::Vector2i(width, image.height()));
-    for (int y = 0; y < image.height(); ++y)
+    for (int y = 0; y < image.height(); ++y) {
+        const Color3f *in = &image.coeffRef(y, 0);
+        Color3f *out = &rows.coeffRef(y, 0);
+        if (evenWidth) {
+            for (int x = 0; x < width; ++x)
+                out[x] = Color3f(0.0f) + 0.5f * in[2 * x] + 0.5f * in[2 * x + 1];
+            continue;
+        }
         for (int x = 0; x < width; ++x) {
             Color3f sum(0.0f);
             for (size_t k = 0; k < wx[x].weights.size(); ++k)
-                sum += wx[x].weights[k] * image.coeff(y, wx[x].first + static_cast<int>(k));
-            rows.coeffRef(y, x) = sum;
+                sum += wx[x].weights[k] * in[wx[x].first + static_cast<int>(k)];
+            out[x] = sum;
         }
+    }
     Bitmap result(Eigen::Vector2i(width, height));
-    for (int y = 0; y < height; ++y)
+    for (int y = 0; y < height; ++y) {
+        Color3f *out = &result.coeffRef(y, 0);
+        if (evenHeight) {
+            const Color3f *above = &rows.coeffRef(2 * y, 0), *below = &rows.coeffRef(2 * y + 1, 0);
+            for (int x = 0; x < width; ++x)
+                out[x] = Color3f(0.0f) + 0.5f * above[x] + 0.5f * below[x];
+            continue;
+        }
         for (int x = 0; x < width; ++x) {
             Color3f sum(0.0f);
             for (size_t k = 0; k < wy[y].weights.size(); ++k)
                 sum += wy[y].weights[k] * rows.coeff(wy[y].first + static_cast<int>(k), x);
-            result.coeffRef(y, x) = sum;
+            out[x] = sum;
         }
+    }
     return result;
 }
 
-MIPMap::MIPMap(Bitmap image) {
-    if (image.width() < 1 || image.height() < 1)
+MIPMap::MIPMap(Bitmap image) : m_base(std::move(image)) {
+    if (m_base.width() < 1 || m_base.height() < 1)
         throw NoriException("MIPMap: empty image");
     double sum[3] = {0, 0, 0};
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = 0; x < image.width(); ++x)
+    for (int y = 0; y < m_base.height(); ++y)
+        for (int x = 0; x < m_base.width(); ++x)
             for (int c = 0; c < 3; ++c)
-                sum[c] += image.coeff(y, x)[c];
-    const double texels = double(image.width()) * image.height();
+                sum[c] += m_base.coeff(y, x)[c];
+    const double texels = double(m_base.width()) * m_base.height();
     m_average = Color3f(float(sum[0] / texels), float(sum[1] / texels), float(sum[2] / texels));
-    m_levels.push_back(std::move(image));
-    while (m_levels.back().width() > 1 || m_levels.back().height() > 1)
-        m_levels.push_back(downsample(m_levels.back()));
+    // Each level halves the larger side (rounding down) until it is 1: ⌊log2 size⌋ times.
+    const int size = std::max(m_base.width(), m_base.height());
+    m_levelCount = 1 + (31 - __builtin_clz(static_cast<unsigned>(size)));
+    if (m_levelCount == 1)
+        m_pyramidBuilt.store(true, std::memory_order_release);
+}
+
+const Bitmap &MIPMap::level(int index) const {
+    if (index == 0)
+        return m_base;
+    std::call_once(m_buildOnce, [this] {
+        m_pyramid.reserve(m_levelCount - 1);
+        for (int level = 1; level < m_levelCount; ++level)
+            m_pyramid.push_back(downsample(level == 1 ? m_base : m_pyramid.back()));
+        m_pyramidBuilt.store(true, std::memory_order_release);
+    });
+    return m_pyramid[index - 1];
+}
+
+Color3f MIPMap::texelOf(const Bitmap &image, int x, int y, Wrap wrap) {
+    return image.coeff(wrapIndex(y, image.height(), wrap), wrapIndex(x, image.width(), wrap));
 }
 
 Color3f MIPMap::texel(int level, int x, int y, Wrap wrap) const {
-    const Bitmap &image = m_levels[level];
-    return image.coeff(wrapIndex(y, image.height(), wrap), wrapIndex(x, image.width(), wrap));
+    return texelOf(this->level(level), x, y, wrap);
 }
 
 Color3f MIPMap::nearest(const Point2f &stIn, Wrap wrap) const {
     const Point2f st = reduce(stIn, wrap);
-    const Bitmap &image = m_levels[0];
-    return texel(0, static_cast<int>(std::floor(st.x() * image.width())),
-                 static_cast<int>(std::floor(st.y() * image.height())), wrap);
+    return texelOf(m_base, static_cast<int>(std::floor(st.x() * m_base.width())),
+                   static_cast<int>(std::floor(st.y() * m_base.height())), wrap);
 }
 
 Color3f MIPMap::bilinear(int level, const Point2f &stIn, Wrap wrap) const {
     const Point2f st = reduce(stIn, wrap);
-    const Bitmap &image = m_levels[level];
+    const Bitmap &image = this->level(level);
     const float x = st.x() * image.width() - 0.5f, y = st.y() * image.height() - 0.5f;
     const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
     const float fx = x - x0, fy = y - y0;
-    return (1 - fx) * (1 - fy) * texel(level, x0, y0, wrap) +
-           fx * (1 - fy) * texel(level, x0 + 1, y0, wrap) +
-           (1 - fx) * fy * texel(level, x0, y0 + 1, wrap) +
-           fx * fy * texel(level, x0 + 1, y0 + 1, wrap);
+    return (1 - fx) * (1 - fy) * texelOf(image, x0, y0, wrap) +
+           fx * (1 - fy) * texelOf(image, x0 + 1, y0, wrap) +
+           (1 - fx) * fy * texelOf(image, x0, y0 + 1, wrap) +
+           fx * fy * texelOf(image, x0 + 1, y0 + 1, wrap);
 }
 
 float MIPMap::trilinearLevel(const Vector2f &dst0In, const Vector2f &dst1In) const {
     const Vector2f dst0 = finiteOrZero(dst0In), dst1 = finiteOrZero(dst1In);
-    const float resolution =
-        static_cast<float>(std::max(m_levels[0].width(), m_levels[0].height()));
+    const float resolution = static_cast<float>(std::max(m_base.width(), m_base.height()));
     const float width = 2.0f * std::max({std::abs(dst0.x()), std::abs(dst0.y()), std::abs(dst1.x()),
                                          std::abs(dst1.y())});
     const float level = std::log2(std::max(width * resolution, 1e-8f));
@@ -182,8 +218,7 @@ float MIPMap::ewaLevel(Vector2f dst0, Vector2f dst1, float maxAnisotropy) const 
     dst0 = finiteOrZero(dst0);
     dst1 = finiteOrZero(dst1);
     clampEccentricity(dst0, dst1, maxAnisotropy);
-    const float resolution =
-        static_cast<float>(std::max(m_levels[0].width(), m_levels[0].height()));
+    const float resolution = static_cast<float>(std::max(m_base.width(), m_base.height()));
     const float level = std::log2(std::max(dst1.norm() * resolution, 1e-8f));
     return std::clamp(level, 0.0f, static_cast<float>(levels() - 1));
 }
@@ -209,7 +244,7 @@ Color3f MIPMap::ewa(const Point2f &stIn, Vector2f dst0, Vector2f dst1, float max
 
 Color3f MIPMap::ewaOnLevel(int level, const Point2f &st, const Vector2f &dst0, const Vector2f &dst1,
                            Wrap wrap) const {
-    const Bitmap &image = m_levels[level];
+    const Bitmap &image = this->level(level);
     const float w = static_cast<float>(image.width()), h = static_cast<float>(image.height());
     // In this level's texel units, texel centres at integers.
     const float s = st.x() * w - 0.5f, t = st.y() * h - 0.5f;
@@ -240,7 +275,7 @@ Color3f MIPMap::ewaOnLevel(int level, const Point2f &st, const Vector2f &dst0, c
             const float r2 = A * ss * ss + B * ss * tt + C * tt * tt;
             if (r2 < 1.0f) {
                 const float weight = std::exp(-2.0f * r2) - floor;
-                sum += weight * texel(level, is, it, wrap);
+                sum += weight * texelOf(image, is, it, wrap);
                 weightSum += weight;
             }
         }
