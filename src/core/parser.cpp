@@ -372,13 +372,16 @@ private:
     /// change before its element (a <default> further on), so that element reads its file
     /// itself.
     void startLoadsAhead(const SourceFile &file, const pugi::xml_node &root) {
-        // Depth first in document order (children pushed last first), the order in which
-        // the elements will ask for their files.
+        // In the order the elements will ask for their files: an object is made after its
+        // children (a mesh after the textures of its BSDF), so in post-order, children in
+        // document order. A depth-first walk taking each node before its children, last
+        // child first, meets the elements in exactly the reverse of that order.
+        std::vector<std::pair<const std::string *, std::string>> reads;
         std::vector<pugi::xml_node> stack{root};
         while (!stack.empty()) {
             const pugi::xml_node node = stack.back();
             stack.pop_back();
-            for (pugi::xml_node child = node.last_child(); child; child = child.previous_sibling())
+            for (pugi::xml_node child = node.first_child(); child; child = child.next_sibling())
                 if (child.type() == pugi::node_element)
                     stack.push_back(child);
             const std::string type = node.attribute("type").value();
@@ -395,8 +398,10 @@ private:
             fs::path path(value);
             if (path.is_relative() && !file.directory.empty())
                 path = fs::path(file.directory) / path;
-            m_loadAhead.start(*reader, path.lexically_normal().string());
+            reads.emplace_back(reader, path.lexically_normal().string());
         }
+        for (auto read = reads.rbegin(); read != reads.rend(); ++read)
+            m_loadAhead.start(*read->first, read->second);
     }
 
     /// Replaces every $name in an attribute value by its definition.
