@@ -428,11 +428,6 @@ std::vector<float> parseNumbers(const std::string &text, const std::string &loca
     return numbers;
 }
 
-/// The sRGB transfer function, undone (IEC 61966-2-1).
-float srgbToLinear(float value) {
-    return value <= 0.04045f ? value / 12.92f : std::pow((value + 0.055f) / 1.055f, 2.4f);
-}
-
 /// "#rrggbb" (or "#rgb"), decoded from sRGB.
 Color3f hexColor(const std::string &text, const std::string &location) {
     std::string digits = text.substr(1);
@@ -443,9 +438,8 @@ Color3f hexColor(const std::string &text, const std::string &location) {
         throw LocatedError(location, fmt::format("'{}' is not a colour #rrggbb", text));
     Color3f color;
     for (int i = 0; i < 3; ++i)
-        color[i] =
-            srgbToLinear(float(std::stoi(digits.substr(2 * size_t(i), 2), nullptr, 16)) / 255.0f);
-    return color;
+        color[i] = float(std::stoi(digits.substr(2 * size_t(i), 2), nullptr, 16)) / 255.0f;
+    return color.toLinearRGB();
 }
 
 /// The RGB of an <rgb>, <srgb>, <spectrum> or <blackbody> (or a <float>: a grey).
@@ -463,12 +457,9 @@ Color3f colorOf(const Value &value, Intent intent) {
         if (numbers.size() != 1 && numbers.size() != 3)
             throw LocatedError(
                 where, fmt::format("<{}> takes 1 or 3 numbers, got {}", value.tag, numbers.size()));
-        Color3f color =
+        const Color3f color =
             numbers.size() == 1 ? Color3f(numbers[0]) : Color3f(numbers[0], numbers[1], numbers[2]);
-        if (value.tag == "srgb")
-            for (int i = 0; i < 3; ++i)
-                color[i] = srgbToLinear(color[i]);
-        return color;
+        return value.tag == "srgb" ? color.toLinearRGB() : color;
     }
     const auto toRGB = [&](const std::function<float(float)> &spectrum) {
         return intent == Intent::Illuminant ? emissionToRGB(spectrum) : reflectanceToRGB(spectrum);
