@@ -94,7 +94,7 @@ Bitmap MIPMap::downsample(const Bitmap &image) {
         const Color3f *in = &image.coeffRef(y, 0);
         Color3f *out = &rows.coeffRef(y, 0);
         if (evenWidth) {
-            for (int x = 0; x < width; ++x)
+            for (ptrdiff_t x = 0; x < width; ++x)
                 out[x] = Color3f(0.0f) + 0.5f * in[2 * x] + 0.5f * in[2 * x + 1];
             continue;
         }
@@ -106,7 +106,7 @@ Bitmap MIPMap::downsample(const Bitmap &image) {
         }
     }
     Bitmap result(Eigen::Vector2i(width, height));
-    for (int y = 0; y < height; ++y) {
+    for (Eigen::Index y = 0; y < height; ++y) {
         Color3f *out = &result.coeffRef(y, 0);
         if (evenHeight) {
             const Color3f *above = &rows.coeffRef(2 * y, 0), *below = &rows.coeffRef(2 * y + 1, 0);
