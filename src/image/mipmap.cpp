@@ -144,10 +144,14 @@ MIPMap::MIPMap(Bitmap image) : m_base(std::move(image)) {
 const Bitmap &MIPMap::level(int index) const {
     if (index == 0)
         return m_base;
+    // Built aside and moved in whole: if a level's allocation throws, the next call
+    // starts over from an empty pyramid.
     std::call_once(m_buildOnce, [this] {
-        m_pyramid.reserve(m_levelCount - 1);
+        std::vector<Bitmap> pyramid;
+        pyramid.reserve(m_levelCount - 1);
         for (int level = 1; level < m_levelCount; ++level)
-            m_pyramid.push_back(downsample(level == 1 ? m_base : m_pyramid.back()));
+            pyramid.push_back(downsample(level == 1 ? m_base : pyramid.back()));
+        m_pyramid = std::move(pyramid);
         m_pyramidBuilt.store(true, std::memory_order_release);
     });
     return m_pyramid[index - 1];
